@@ -1,0 +1,149 @@
+// NDT Occupancy Map (Saarinen et al., IROS 2013): a sparse grid whose cells hold exact
+// recursive Gaussian statistics (Sec. III-A) and an occupancy log-odds (Sec. III-C).
+//
+// Threading contract: const member functions may run concurrently with each other; any
+// non-const call (insertScan, merge, clear, assignment) needs exclusive access.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <bitset>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "ndtom/block_grid.h"
+#include "ndtom/cell_index.h"
+#include "ndtom/cell_stats.h"
+#include "ndtom/gaussian.h"
+#include "ndtom/insertion_report.h"
+#include "ndtom/options.h"
+
+namespace ndtom {
+
+/// Read-only view of one known cell.
+struct CellView {
+  CellIndex index;
+  float logodds = 0;                ///< occupancy log-odds (Eq. 12), clamped
+  const CellStats* stats = nullptr; ///< points merged so far (cell-centred mean); null if none
+};
+
+class NdtMap {
+ public:
+  /// Throws std::invalid_argument if the options are invalid.
+  explicit NdtMap(const MapOptions& options = {});
+
+  const MapOptions& options() const { return options_; }
+  const GridGeometry& geometry() const { return geometry_; }
+
+  // --- Insertion (paper Sec. III) --------------------------------------------------------
+
+  /// Inserts one scan: points in the world frame, seen from `sensor_origin`. Bad points are
+  /// skipped and counted; a bad origin throws std::invalid_argument. If anything throws, the
+  /// map is left as it was before the call.
+  InsertionReport insertScan(const std::vector<Eigen::Vector3d>& points,
+                             const Eigen::Vector3d& sensor_origin);
+  InsertionReport insertScan(const std::vector<Eigen::Vector3d>& points,
+                             const Eigen::Vector3d& sensor_origin, const InsertOptions& options);
+
+  // --- Queries: const, never allocate, never change the map -------------------------------
+
+  bool isEmpty() const { return num_cells_ == 0; }
+  size_t numCells() const { return num_cells_; }  ///< cells ever observed and not cleared
+  size_t numGaussians() const;                    ///< cells with N ≥ 3
+  size_t numOccupied() const;                     ///< cells with log-odds > 0
+
+  std::optional<CellView> cell(const CellIndex& index) const;
+  /// Cell at a point; nullopt if unknown, non-finite or outside the supported range.
+  std::optional<CellView> cellAt(const Eigen::Vector3d& point) const;
+  /// p(m | z_1:t) of the cell at `point`; nullopt where nothing is known.
+  std::optional<double> occupancyProbability(const Eigen::Vector3d& point) const;
+  /// World-frame Gaussian of a cell with N ≥ 3, its covariance regularised or exact.
+  std::optional<Gaussian> gaussian(const CellIndex& index, bool regularized = true) const;
+  Gaussian gaussianOf(const CellView& cell, bool regularized = true) const;
+
+  /// f(const CellView&) for every known cell, block by block.
+  template <class F>
+  void forEachCell(F&& f) const;
+  /// f(const Gaussian&) for every cell with N ≥ 3.
+  template <class F>
+  void forEachGaussian(F&& f, bool regularized = true) const;
+
+  /// Heap bytes used by cells, blocks, index and statistics.
+  size_t memoryBytes() const;
+
+  // --- Map algebra ------------------------------------------------------------------------
+
+  /// Adds a map built from other data (same resolution, else std::invalid_argument):
+  /// Gaussians by RCU, log-odds summed and clamped to this map's bounds.
+  void merge(const NdtMap& other);
+
+  /// A map `factor` times coarser (Sec. III-B): each coarse cell is the RCU merge of the fine
+  /// cells inside it; its log-odds is the largest of theirs (occupied if any part is).
+  NdtMap coarsened(int factor) const;
+
+  void clear();
+
+  // --- Low level: restoring a map from storage ------------------------------------------
+
+  /// Sets one cell as given (used by loaders). The statistics' mean is cell-centred. Throws
+  /// std::invalid_argument for an index outside the supported range.
+  void setCell(const CellIndex& index, float logodds, const CellStats& stats);
+
+ private:
+  static constexpr uint32_t kNoStats = UINT32_MAX;
+
+  struct Block {
+    std::array<float, kBlockCells> logodds;
+    std::array<uint32_t, kBlockCells> stats;  ///< index into stats_, or kNoStats
+    std::bitset<kBlockCells> known;
+    Block() {
+      logodds.fill(0.f);
+      stats.fill(kNoStats);
+    }
+  };
+
+  /// Pool of statistics with reuse of freed slots.
+  struct StatsPool {
+    std::vector<CellStats> items;
+    std::vector<uint32_t> free_slots;
+    uint32_t add(const CellStats& s);  ///< noexcept once reserve() made room
+    void remove(uint32_t slot) { free_slots.push_back(slot); }
+    void reserve(size_t extra);
+    size_t size() const { return items.size() - free_slots.size(); }
+  };
+
+  friend class ScanUpdater;
+
+  float clampLogOdds(double l) const;
+
+  MapOptions options_;
+  GridGeometry geometry_;
+  BlockGrid<Block> grid_;
+  StatsPool stats_;
+  size_t num_cells_ = 0;
+};
+
+// --- Template implementations ------------------------------------------------------------
+
+template <class F>
+void NdtMap::forEachCell(F&& f) const {
+  for (const auto& [block_index, block] : grid_.blocks()) {
+    if (block->known.none()) continue;
+    for (int i = 0; i < kBlockCells; ++i) {
+      if (!block->known[i]) continue;
+      const uint32_t slot = block->stats[i];
+      f(CellView{cellOf(block_index, i), block->logodds[i],
+                 slot == kNoStats ? nullptr : &stats_.items[slot]});
+    }
+  }
+}
+
+template <class F>
+void NdtMap::forEachGaussian(F&& f, bool regularized) const {
+  forEachCell([&](const CellView& c) {
+    if (c.stats && c.stats->hasGaussian()) f(gaussianOf(c, regularized));
+  });
+}
+
+}  // namespace ndtom

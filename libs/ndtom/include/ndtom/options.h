@@ -1,0 +1,60 @@
+// Options of an NDT-OM map. validate() rejects bad values with a message naming the option.
+#pragma once
+
+#include <limits>
+#include <string>
+
+#include "ndtom/gaussian.h"
+
+namespace ndtom {
+
+enum class RayMode {
+  /// One ray per point, as in the paper: the reference.
+  PerPoint = 0,
+  /// One ray per cell hit by the scan, aimed at the mean of the scan's points in that cell
+  /// and weighted by their number. Several times fewer voxel visits, approximate N_e.
+  PerHitCell = 1,
+};
+
+const char* toString(RayMode mode);
+/// Accepts "per_point"/"PerPoint"/"0" and "per_hit_cell"/"PerHitCell"/"1"; throws otherwise.
+RayMode rayModeFromString(const std::string& text);
+
+/// Occupancy update of Eq. 12.
+struct OccupancyOptions {
+  bool enabled = true;       ///< false gives the paper's "Recursive NDT" (no rays, no removal)
+  double p_hit = 0.6;        ///< p_o: occupancy probability of a cell with hits (Default: 0.6)
+  double p_miss = 0.49;      ///< p_e: occupancy probability of a cell a ray crosses (Default: 0.49)
+  double logodds_min = -2.0; ///< lower clamp (Default: -2.0, 50 free rays from 0 at p_e=0.49)
+  double logodds_max = 3.5;  ///< upper clamp (Default: 3.5, 88 free rays to empty a cell)
+
+  double hitLogOdds() const;   ///< log(p_o / (1 − p_o))
+  double missLogOdds() const;  ///< log(p_e / (1 − p_e))
+};
+
+/// How one scan is turned into hits and free rays.
+struct InsertOptions {
+  double min_range = 0.0;  ///< points closer to the sensor are dropped (Default: 0 m)
+  double max_range = std::numeric_limits<double>::infinity();  ///< farther points give a
+                           ///< free ray truncated here and no hit (Default: no limit)
+  RayMode ray_mode = RayMode::PerPoint;
+};
+
+struct MapOptions {
+  double resolution = 0.2;  ///< cell edge (Default: 0.2 m)
+  OccupancyOptions occupancy;
+  InsertOptions insertion;        ///< used by NdtMap::insertScan(points, origin)
+  Regularization regularization;  ///< for the covariance handed to users only
+};
+
+/// Supported resolution range, so that a map of any real scene fits in memory and index space.
+inline constexpr double kMinResolution = 1e-3;  // m
+inline constexpr double kMaxResolution = 1e3;   // m
+
+/// Throw std::invalid_argument("<option>: <why>") on the first bad value.
+void validate(const OccupancyOptions& o);
+void validate(const InsertOptions& o);
+void validate(const Regularization& r);
+void validate(const MapOptions& o);
+
+}  // namespace ndtom
