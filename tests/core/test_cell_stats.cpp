@@ -5,9 +5,9 @@
 
 #include "ndtom/cell_stats.h"
 
-using ndtom::CellStats;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
+using ndtom::CellStats;
 
 namespace {
 
@@ -58,7 +58,9 @@ CellStats recursiveEstimate(const std::vector<Vector3d>& points, const Vector3d&
   return stats;
 }
 
-double relativeError(const Matrix3d& a, const Matrix3d& b) { return (a - b).norm() / b.norm(); }
+double relativeError(const Matrix3d& a, const Matrix3d& b) {
+  return (a - b).norm() / b.norm();
+}
 
 }  // namespace
 

@@ -11,7 +11,8 @@ CellStatsMap batchNdt(const std::vector<Eigen::Vector3d>& points, const GridGeom
   }
   CellStatsMap result;
   result.reserve(per_cell.size());
-  for (const auto& [cell, relative] : per_cell) result.emplace(cell, CellStats::fromPoints(relative));
+  for (const auto& [cell, relative] : per_cell)
+    result.emplace(cell, CellStats::fromPoints(relative));
   return result;
 }
 

@@ -1,6 +1,19 @@
 #include "ndtom/cell_stats.h"
 
 namespace ndtom {
+namespace {
+
+// s += w·d·dᵀ, computed once per upper-triangle entry and mirrored: Eigen's own expression
+// may associate (w·d_i)·d_j and (w·d_j)·d_i differently, leaving S asymmetric in the last bit.
+void addWeightedOuterProduct(Eigen::Matrix3d& s, const Eigen::Vector3d& d, double w) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      s(i, j) += w * (d[i] * d[j]);
+      s(j, i) = s(i, j);
+    }
+}
+
+}  // namespace
 
 void CellStats::merge(const CellStats& other) {
   if (other.n == 0) return;
@@ -11,7 +24,8 @@ void CellStats::merge(const CellStats& other) {
   const double m = n, k = other.n, total = m + k;
   const Eigen::Vector3d delta = other.mean - mean;
   // Eq. 11: S = S_x + S_y + mk/(m+k) (μ_x − μ_y)(μ_x − μ_y)ᵀ
-  scatter += other.scatter + (m * k / total) * (delta * delta.transpose());
+  scatter += other.scatter;
+  addWeightedOuterProduct(scatter, delta, m * k / total);
   // Eq. 2, written as an increment so equal means stay bit-exact.
   mean += (k / total) * delta;
   n += other.n;
@@ -25,8 +39,7 @@ CellStats CellStats::fromPoints(const std::vector<Eigen::Vector3d>& relative_poi
   for (const auto& p : relative_points) sum += p;
   s.mean = sum / double(s.n);
   for (const auto& p : relative_points) {
-    const Eigen::Vector3d d = p - s.mean;
-    s.scatter += d * d.transpose();
+    addWeightedOuterProduct(s.scatter, p - s.mean, 1.0);
   }
   return s;
 }

@@ -5,7 +5,8 @@
 
 namespace ndtom {
 
-Eigen::Matrix3d regularizedCovariance(const Eigen::Matrix3d& covariance, const Regularization& reg) {
+Eigen::Matrix3d regularizedCovariance(const Eigen::Matrix3d& covariance,
+                                      const Regularization& reg) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(covariance);
   Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
   const double floor_value = std::max(reg.min_eigen_ratio * lambda[2], reg.min_eigen_abs);

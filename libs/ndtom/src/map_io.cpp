@@ -182,8 +182,7 @@ MapOptions readOptions(ByteReader& in) {
 
 std::vector<uint8_t> encodeMap(const NdtMap& map) {
   std::vector<uint8_t> out;
-  out.reserve(64 + map.numCells() * (kCellHeaderBytes + 8) +
-              map.numGaussians() * kCellStatsBytes);
+  out.reserve(64 + map.numCells() * (kCellHeaderBytes + 8) + map.numGaussians() * kCellStatsBytes);
   ByteWriter w(out);
   w.bytes(kMagic, sizeof(kMagic));
   w.u32(kMapFormatVersion);
@@ -195,7 +194,7 @@ std::vector<uint8_t> encodeMap(const NdtMap& map) {
     w.f64(f.get(map.options()));
   }
   w.u64(map.numCells());
-  map.forEachCell([&](const CellView& c) {
+  map.forEachCellOrdered([&](const CellView& c) {
     w.i32(c.index.x);
     w.i32(c.index.y);
     w.i32(c.index.z);

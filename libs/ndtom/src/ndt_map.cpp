@@ -140,9 +140,10 @@ void NdtMap::merge(const NdtMap& other) {
     CellStats stats = mine && mine->stats ? *mine->stats : CellStats{};
     if (theirs.stats) stats.merge(*theirs.stats);
     if (options_.occupancy.enabled && clampLogOdds(logodds) <= 0.f) stats = CellStats{};
-    setCell(theirs.index, float(std::clamp(logodds, options_.occupancy.logodds_min,
-                                           options_.occupancy.logodds_max)),
-            stats);
+    setCell(
+        theirs.index,
+        float(std::clamp(logodds, options_.occupancy.logodds_min, options_.occupancy.logodds_max)),
+        stats);
   });
 }
 

@@ -17,8 +17,10 @@ namespace {
 
 const char* toString(RayMode mode) {
   switch (mode) {
-    case RayMode::PerPoint: return "per_point";
-    case RayMode::PerHitCell: return "per_hit_cell";
+    case RayMode::PerPoint:
+      return "per_point";
+    case RayMode::PerHitCell:
+      return "per_hit_cell";
   }
   return "unknown";
 }
@@ -29,14 +31,19 @@ RayMode rayModeFromString(const std::string& text) {
   throw std::invalid_argument("ray_mode = " + text + ": expected per_point or per_hit_cell");
 }
 
-double OccupancyOptions::hitLogOdds() const { return std::log(p_hit / (1.0 - p_hit)); }
-double OccupancyOptions::missLogOdds() const { return std::log(p_miss / (1.0 - p_miss)); }
+double OccupancyOptions::hitLogOdds() const {
+  return std::log(p_hit / (1.0 - p_hit));
+}
+double OccupancyOptions::missLogOdds() const {
+  return std::log(p_miss / (1.0 - p_miss));
+}
 
 void validate(const OccupancyOptions& o) {
   if (!(o.p_hit > 0.5 && o.p_hit < 1.0))
     fail("p_hit", o.p_hit, "must be in (0.5, 1): a hit is evidence of occupancy");
   if (!(o.p_miss > 0.0 && o.p_miss < 0.5))
-    fail("p_miss", o.p_miss, "must be in (0, 0.5): a ray crossing a cell is evidence of free space");
+    fail("p_miss", o.p_miss,
+         "must be in (0, 0.5): a ray crossing a cell is evidence of free space");
   if (!(std::isfinite(o.logodds_min) && o.logodds_min < 0))
     fail("logodds_min", o.logodds_min, "must be finite and < 0");
   if (!(std::isfinite(o.logodds_max) && o.logodds_max > 0))

@@ -27,6 +27,7 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
 // Step 1: drop bad points (counted), truncate far ones at max_range.
 void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
   const GridGeometry& geometry = map_.geometry();
+  const double max_ray_length = kMaxRayCells * geometry.resolution();
   ends_.clear();
   ray_ends_.clear();
   ends_.reserve(points.size());
@@ -36,17 +37,23 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
       ++report_.rejected_non_finite;
       continue;
     }
+    if (!geometry.inRange(p)) {
+      ++report_.rejected_out_of_grid;
+      continue;
+    }
     const double range = (p - origin_).norm();
     if (range == 0.0 || range < options_.min_range) {
       ++report_.rejected_too_close;
       continue;
     }
-    const bool hit = range <= options_.max_range;
-    const Eigen::Vector3d end = hit ? p : Eigen::Vector3d(origin_ + (p - origin_) * (options_.max_range / range));
-    if (!geometry.inRange(end)) {
-      ++report_.rejected_out_of_grid;
+    if (std::min(range, options_.max_range) > max_ray_length) {
+      ++report_.rejected_too_far;
       continue;
     }
+    // Both ends inside the supported range, so every cell between them is too.
+    const bool hit = range <= options_.max_range;
+    const Eigen::Vector3d end =
+        hit ? p : Eigen::Vector3d(origin_ + (p - origin_) * (options_.max_range / range));
     ray_ends_.push_back({geometry.cellOf(end), uint32_t(ends_.size()), hit});
     ends_.push_back(end);
     ++(hit ? report_.hits : report_.truncated);
@@ -77,8 +84,8 @@ void ScanUpdater::groupEndsByCell() {
     groups_.push_back(g);
     begin = end;
   }
-  report_.cells_hit = size_t(std::count_if(groups_.begin(), groups_.end(),
-                                           [](const EndGroup& g) { return g.hit; }));
+  report_.cells_hit = size_t(
+      std::count_if(groups_.begin(), groups_.end(), [](const EndGroup& g) { return g.hit; }));
 }
 
 // Step 3: count N_e, the rays crossing each cell without ending in it.

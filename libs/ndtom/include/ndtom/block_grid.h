@@ -48,7 +48,8 @@ class BlockGrid {
     if (this == &other) return *this;
     Map copy;
     copy.reserve(other.blocks_.size());
-    for (const auto& [key, block] : other.blocks_) copy.emplace(key, std::make_unique<Block>(*block));
+    for (const auto& [key, block] : other.blocks_)
+      copy.emplace(key, std::make_unique<Block>(*block));
     blocks_.swap(copy);
     return *this;
   }

@@ -6,6 +6,11 @@
 
 namespace ndtom {
 
+/// Longest ray traced, in cells (6.5 km at 0.1 m). A farther point is rejected rather than
+/// traced: a glitch at 1e8 m would otherwise take minutes and gigabytes. Set max_range to
+/// truncate long rays instead.
+inline constexpr double kMaxRayCells = 65536;
+
 struct InsertionReport {
   size_t points_in = 0;             ///< points given
   size_t hits = 0;                  ///< points counted in N_p of their cell (Eq. 12) and merged
@@ -13,6 +18,7 @@ struct InsertionReport {
   size_t rejected_non_finite = 0;   ///< NaN or Inf coordinates
   size_t rejected_too_close = 0;    ///< closer than min_range, or at the sensor origin
   size_t rejected_out_of_grid = 0;  ///< outside the supported coordinate range (see cell_index.h)
+  size_t rejected_too_far = 0;  ///< ray longer than kMaxRayCells cells (a glitch, not a reading)
 
   size_t cells_touched = 0;     ///< distinct cells whose occupancy was updated
   size_t cells_hit = 0;         ///< cells with N_p > 0
@@ -24,7 +30,7 @@ struct InsertionReport {
 
   size_t pointsUsed() const { return hits + truncated; }
   size_t rejected() const {
-    return rejected_non_finite + rejected_too_close + rejected_out_of_grid;
+    return rejected_non_finite + rejected_too_close + rejected_out_of_grid + rejected_too_far;
   }
   InsertionReport& operator+=(const InsertionReport& o);
   std::string toString() const;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <bitset>
 #include <cstdint>
@@ -24,8 +25,8 @@ namespace ndtom {
 /// Read-only view of one known cell.
 struct CellView {
   CellIndex index;
-  float logodds = 0;                ///< occupancy log-odds (Eq. 12), clamped
-  const CellStats* stats = nullptr; ///< points merged so far (cell-centred mean); null if none
+  float logodds = 0;                 ///< occupancy log-odds (Eq. 12), clamped
+  const CellStats* stats = nullptr;  ///< points merged so far (cell-centred mean); null if none
 };
 
 class NdtMap {
@@ -65,6 +66,9 @@ class NdtMap {
   /// f(const CellView&) for every known cell, block by block.
   template <class F>
   void forEachCell(F&& f) const;
+  /// The same in ascending block order: deterministic, whatever the insertion history.
+  template <class F>
+  void forEachCellOrdered(F&& f) const;
   /// f(const Gaussian&) for every cell with N ≥ 3.
   template <class F>
   void forEachGaussian(F&& f, bool regularized = true) const;
@@ -115,6 +119,9 @@ class NdtMap {
 
   friend class ScanUpdater;
 
+  template <class F>
+  void forEachCellOfBlock(const CellIndex& block_index, const Block& block, F& f) const;
+
   float clampLogOdds(double l) const;
 
   MapOptions options_;
@@ -127,16 +134,31 @@ class NdtMap {
 // --- Template implementations ------------------------------------------------------------
 
 template <class F>
-void NdtMap::forEachCell(F&& f) const {
-  for (const auto& [block_index, block] : grid_.blocks()) {
-    if (block->known.none()) continue;
-    for (int i = 0; i < kBlockCells; ++i) {
-      if (!block->known[i]) continue;
-      const uint32_t slot = block->stats[i];
-      f(CellView{cellOf(block_index, i), block->logodds[i],
-                 slot == kNoStats ? nullptr : &stats_.items[slot]});
-    }
+void NdtMap::forEachCellOfBlock(const CellIndex& block_index, const Block& block, F& f) const {
+  if (block.known.none()) return;
+  for (int i = 0; i < kBlockCells; ++i) {
+    if (!block.known[i]) continue;
+    const uint32_t slot = block.stats[i];
+    f(CellView{cellOf(block_index, i), block.logodds[i],
+               slot == kNoStats ? nullptr : &stats_.items[slot]});
   }
+}
+
+template <class F>
+void NdtMap::forEachCell(F&& f) const {
+  for (const auto& [block_index, block] : grid_.blocks())
+    forEachCellOfBlock(block_index, *block, f);
+}
+
+template <class F>
+void NdtMap::forEachCellOrdered(F&& f) const {
+  std::vector<std::pair<CellIndex, const Block*>> blocks;
+  blocks.reserve(grid_.size());
+  for (const auto& [block_index, block] : grid_.blocks())
+    blocks.emplace_back(block_index, block.get());
+  std::sort(blocks.begin(), blocks.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [block_index, block] : blocks) forEachCellOfBlock(block_index, *block, f);
 }
 
 template <class F>

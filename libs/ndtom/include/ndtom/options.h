@@ -22,11 +22,11 @@ RayMode rayModeFromString(const std::string& text);
 
 /// Occupancy update of Eq. 12.
 struct OccupancyOptions {
-  bool enabled = true;       ///< false gives the paper's "Recursive NDT" (no rays, no removal)
-  double p_hit = 0.6;        ///< p_o: occupancy probability of a cell with hits (Default: 0.6)
-  double p_miss = 0.49;      ///< p_e: occupancy probability of a cell a ray crosses (Default: 0.49)
-  double logodds_min = -2.0; ///< lower clamp (Default: -2.0, 50 free rays from 0 at p_e=0.49)
-  double logodds_max = 3.5;  ///< upper clamp (Default: 3.5, 88 free rays to empty a cell)
+  bool enabled = true;   ///< false gives the paper's "Recursive NDT" (no rays, no removal)
+  double p_hit = 0.6;    ///< p_o: occupancy probability of a cell with hits (Default: 0.6)
+  double p_miss = 0.49;  ///< p_e: occupancy probability of a cell a ray crosses (Default: 0.49)
+  double logodds_min = -2.0;  ///< lower clamp (Default: -2.0, 50 free rays from 0 at p_e=0.49)
+  double logodds_max = 3.5;   ///< upper clamp (Default: 3.5, 88 free rays to empty a cell)
 
   double hitLogOdds() const;   ///< log(p_o / (1 − p_o))
   double missLogOdds() const;  ///< log(p_e / (1 − p_e))
@@ -36,7 +36,8 @@ struct OccupancyOptions {
 struct InsertOptions {
   double min_range = 0.0;  ///< points closer to the sensor are dropped (Default: 0 m)
   double max_range = std::numeric_limits<double>::infinity();  ///< farther points give a
-                           ///< free ray truncated here and no hit (Default: no limit)
+                                                               ///< free ray truncated here and no
+                                                               ///< hit (Default: no limit)
   RayMode ray_mode = RayMode::PerPoint;
 };
 

@@ -59,8 +59,8 @@ void traverseRay(const GridGeometry& geometry, const Eigen::Vector3d& from,
 
   for (;;) {
     if (!visit(static_cast<const CellIndex&>(cell))) return;
-    const int a = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2)
-                                        : (t_next[1] < t_next[2] ? 1 : 2);
+    const int a =
+        t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
     const double t = t_next[a];
     if (!(t <= 1.0)) return;  // rounding guard: the segment ends in this cell
     const bool tie = (t_next[(a + 1) % 3] == t) || (t_next[(a + 2) % 3] == t);

@@ -1,0 +1,190 @@
+// The .ndtom file format: exact round trips, and every damaged file rejected cleanly.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "ndtom/atomic_file.h"
+#include "ndtom/crc32.h"
+#include "ndtom/map_io.h"
+
+using Eigen::Vector3d;
+using ndtom::MapOptions;
+using ndtom::NdtMap;
+
+namespace {
+
+NdtMap sampleMap() {
+  MapOptions o;
+  o.resolution = 0.35;
+  o.occupancy.p_hit = 0.7;
+  o.insertion.max_range = 8.0;
+  o.insertion.ray_mode = ndtom::RayMode::PerHitCell;
+  NdtMap map(o);
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-4, 4);
+  for (int s = 0; s < 4; ++s) {
+    std::vector<Vector3d> pts;
+    for (int i = 0; i < 300; ++i) pts.emplace_back(u(rng), u(rng), i % 2 ? -1.0 : u(rng));
+    map.insertScan(pts, Vector3d(0.1 * s, 0, 0.5));
+  }
+  return map;
+}
+
+// A few hundred bytes with every kind of record: free cells, cells with 1-2 points, Gaussians.
+NdtMap smallMap() {
+  MapOptions o;
+  o.resolution = 0.5;
+  NdtMap map(o);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(0.01, 0.49);
+  map.insertScan({{2 + u(rng), u(rng), u(rng)},
+                  {2 + u(rng), u(rng), u(rng)},
+                  {2 + u(rng), u(rng), u(rng)},
+                  {1 + u(rng), 1 + u(rng), u(rng)}},
+                 Vector3d(0.2, 0.2, 0.2));
+  return map;
+}
+
+void expectIdentical(const NdtMap& a, const NdtMap& b) {
+  ASSERT_EQ(a.numCells(), b.numCells());
+  EXPECT_EQ(a.options().resolution, b.options().resolution);
+  EXPECT_EQ(a.options().occupancy.p_hit, b.options().occupancy.p_hit);
+  EXPECT_EQ(a.options().insertion.max_range, b.options().insertion.max_range);
+  EXPECT_EQ(a.options().insertion.ray_mode, b.options().insertion.ray_mode);
+  a.forEachCell([&](const ndtom::CellView& ca) {
+    const auto cb = b.cell(ca.index);
+    ASSERT_TRUE(cb);
+    EXPECT_EQ(ca.logodds, cb->logodds);
+    ASSERT_EQ(ca.stats == nullptr, cb->stats == nullptr);
+    if (!ca.stats) return;
+    EXPECT_EQ(ca.stats->n, cb->stats->n);
+    EXPECT_EQ(ca.stats->mean, cb->stats->mean);
+    EXPECT_EQ(ca.stats->scatter, cb->stats->scatter);
+  });
+}
+
+std::string tempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          (name + "-" + std::to_string(::getpid()) + ".ndtom"))
+      .string();
+}
+
+}  // namespace
+
+TEST(MapIo, Crc32MatchesTheStandardCheckValue) {
+  const char* text = "123456789";
+  EXPECT_EQ(ndtom::crc32(text, 9), 0xCBF43926u);  // the published CRC-32/IEEE check value
+}
+
+TEST(MapIo, SaveLoadRoundTripIsExact) {
+  const NdtMap map = sampleMap();
+  ASSERT_GT(map.numGaussians(), 10u);
+  const std::string path = tempPath("roundtrip");
+  ndtom::saveMap(map, path);
+  const NdtMap loaded = ndtom::loadMap(path);
+  expectIdentical(map, loaded);
+  EXPECT_EQ(ndtom::encodeMap(loaded), ndtom::encodeMap(map));
+  std::remove(path.c_str());
+}
+
+TEST(MapIo, EmptyMapRoundTrips) {
+  const NdtMap empty;
+  const auto bytes = ndtom::encodeMap(empty);
+  const NdtMap loaded = ndtom::decodeMap(bytes.data(), bytes.size());
+  EXPECT_TRUE(loaded.isEmpty());
+}
+
+TEST(MapIo, FileIsLittleEndianWithMagicAndVersion) {
+  const auto bytes = ndtom::encodeMap(sampleMap());
+  ASSERT_GT(bytes.size(), 12u);
+  EXPECT_EQ(std::string(bytes.begin(), bytes.begin() + 8), "NDTOMMAP");
+  EXPECT_EQ(bytes[8], 1);
+  EXPECT_EQ(bytes[9] | bytes[10] | bytes[11], 0);
+}
+
+TEST(MapIo, EveryTruncationIsRejected) {
+  const NdtMap map = smallMap();
+  ASSERT_EQ(map.numGaussians(), 1u);
+  const auto bytes = ndtom::encodeMap(map);
+  for (size_t len = 0; len < bytes.size(); ++len) {
+    EXPECT_THROW(ndtom::decodeMap(bytes.data(), len, "truncated"), ndtom::MapFormatError)
+        << "length " << len;
+  }
+}
+
+TEST(MapIo, RandomByteFlipsAreRejected) {
+  const auto bytes = ndtom::encodeMap(sampleMap());
+  std::mt19937 rng(1);
+  std::uniform_int_distribution<size_t> pos(0, bytes.size() - 1);
+  std::uniform_int_distribution<int> bit(0, 7);
+  for (int trial = 0; trial < 2000; ++trial) {
+    auto damaged = bytes;
+    const int flips = 1 + trial % 4;
+    for (int f = 0; f < flips; ++f) damaged[pos(rng)] ^= uint8_t(1u << bit(rng));
+    if (damaged == bytes) continue;
+    EXPECT_THROW(ndtom::decodeMap(damaged.data(), damaged.size(), "flipped"),
+                 ndtom::MapFormatError);
+  }
+}
+
+// Damage with a recomputed checksum: the structural checks alone must catch it.
+TEST(MapIo, ValidChecksumButBadContentIsRejected) {
+  const NdtMap map = smallMap();
+  ASSERT_EQ(map.numGaussians(), 1u);
+  const auto original = ndtom::encodeMap(map);
+  auto withCrc = [](std::vector<uint8_t> b) {
+    const uint32_t crc = ndtom::crc32(b.data(), b.size() - 4);
+    for (int i = 0; i < 4; ++i) b[b.size() - 4 + i] = uint8_t(crc >> (8 * i));
+    return b;
+  };
+  auto expectRejected = [&](std::vector<uint8_t> b, const char* what) {
+    b = withCrc(std::move(b));
+    EXPECT_THROW(ndtom::decodeMap(b.data(), b.size(), what), ndtom::MapFormatError) << what;
+  };
+  auto b = original;
+  b[8] = 2;  // version
+  expectRejected(b, "future version");
+  // Every byte of the body, in turn, set to 0xFF: huge counts, NaNs, out-of-range values.
+  size_t accepted = 0;
+  for (size_t i = 12; i + 4 < original.size(); ++i) {
+    b = original;
+    b[i] = 0xFF;
+    b = withCrc(b);
+    try {
+      ndtom::decodeMap(b.data(), b.size(), "poked");
+      ++accepted;  // harmless changes (e.g. a low mantissa byte) may load
+    } catch (const ndtom::MapFormatError&) {
+    }
+  }
+  EXPECT_LT(accepted, original.size());
+  // Trailing garbage.
+  b = original;
+  b.insert(b.end() - 4, {1, 2, 3});
+  expectRejected(b, "trailing bytes");
+}
+
+TEST(MapIo, UnreadableFilesGiveClearErrors) {
+  EXPECT_THROW(ndtom::loadMap("/nonexistent/dir/map.ndtom"), std::runtime_error);
+  const std::string path = tempPath("garbage");
+  std::ofstream(path) << "this is not a map";
+  try {
+    ndtom::loadMap(path);
+    FAIL() << "garbage loaded";
+  } catch (const ndtom::MapFormatError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << "message names the file";
+  }
+  std::remove(path.c_str());
+}
+
+TEST(MapIo, SaveReplacesAtomicallyAndLeavesNoTemporary) {
+  const std::string path = tempPath("atomic");
+  ndtom::saveMap(sampleMap(), path);
+  ndtom::saveMap(NdtMap(), path);
+  EXPECT_TRUE(ndtom::loadMap(path).isEmpty());
+  EXPECT_FALSE(std::filesystem::exists(ndtom::temporaryPathFor(path)));
+  EXPECT_THROW(ndtom::saveMap(NdtMap(), "/nonexistent/dir/map.ndtom"), std::runtime_error);
+  std::remove(path.c_str());
+}
