@@ -1,0 +1,34 @@
+// Trajectory files: KITTI odometry poses (3x4 row-major [R|t] per line) and the TUM
+// trajectory format ("timestamp tx ty tz qx qy qz qw" per line).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ndtom::io {
+
+class PoseFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class PoseFormat { Auto, Kitti, Tum };
+
+struct StampedPose {
+  double time = 0;  ///< seconds; the line number for KITTI files, which carry no time
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor -> world
+};
+
+/// Reads every pose; Auto picks KITTI for 12 numbers per line and TUM for 8. Lines starting
+/// with '#' and blank lines are skipped. Throws PoseFileError naming the file and line.
+std::vector<StampedPose> readPoseFile(const std::string& path,
+                                      PoseFormat format = PoseFormat::Auto);
+
+/// Pose from translation and quaternion (x, y, z, w as TUM writes them); rejects a zero
+/// or non-finite quaternion with std::invalid_argument.
+Eigen::Isometry3d poseFromTranslationQuaternion(const double t[3], double qx, double qy, double qz,
+                                                double qw);
+
+}  // namespace ndtom::io

@@ -1,0 +1,77 @@
+#include "ndtom_io/pose_file.h"
+
+#include <Eigen/SVD>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace ndtom::io {
+
+Eigen::Isometry3d poseFromTranslationQuaternion(const double t[3], double qx, double qy, double qz,
+                                                double qw) {
+  const Eigen::Quaterniond q(qw, qx, qy, qz);
+  if (!(std::isfinite(q.norm()) && q.norm() > 1e-6))
+    throw std::invalid_argument("zero or non-finite quaternion");
+  if (!(std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2])))
+    throw std::invalid_argument("non-finite translation");
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = q.normalized().toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(t[0], t[1], t[2]);
+  return pose;
+}
+
+std::vector<StampedPose> readPoseFile(const std::string& path, PoseFormat format) {
+  std::ifstream in(path);
+  if (!in) throw PoseFileError("pose file " + path + ": cannot open the file");
+  std::vector<StampedPose> poses;
+  std::string line;
+  for (int line_no = 1; std::getline(in, line); ++line_no) {
+    const auto where = [&] { return "pose file " + path + ", line " + std::to_string(line_no); };
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream s(line);
+    std::vector<double> v;
+    std::string token;
+    while (s >> token) {
+      char* end = nullptr;
+      const double x = std::strtod(token.c_str(), &end);
+      if (end == token.c_str() || *end != '\0' || !std::isfinite(x))
+        throw PoseFileError(where() + ": bad number '" + token + "'");
+      v.push_back(x);
+    }
+    PoseFormat line_format = format;
+    if (format == PoseFormat::Auto) {
+      if (v.size() == 12)
+        line_format = PoseFormat::Kitti;
+      else if (v.size() == 8)
+        line_format = PoseFormat::Tum;
+    }
+    StampedPose p;
+    if (line_format == PoseFormat::Kitti && v.size() == 12) {
+      Eigen::Matrix3d r;
+      r << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
+      // Tolerate the rounding of printed matrices, not a wrong layout.
+      if (!(r * r.transpose()).isApprox(Eigen::Matrix3d::Identity(), 1e-3))
+        throw PoseFileError(where() + ": the 3x3 block is not a rotation");
+      const Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      p.pose.linear() = svd.matrixU() * svd.matrixV().transpose();  // re-orthonormalised
+      p.pose.translation() = Eigen::Vector3d(v[3], v[7], v[11]);
+      p.time = double(poses.size());
+    } else if (line_format == PoseFormat::Tum && v.size() == 8) {
+      try {
+        p.pose = poseFromTranslationQuaternion(&v[1], v[4], v[5], v[6], v[7]);
+      } catch (const std::invalid_argument& e) {
+        throw PoseFileError(where() + ": " + e.what());
+      }
+      p.time = v[0];
+    } else {
+      throw PoseFileError(where() + ": expected 12 numbers (KITTI) or 8 (TUM), found " +
+                          std::to_string(v.size()));
+    }
+    poses.push_back(p);
+  }
+  if (poses.empty()) throw PoseFileError("pose file " + path + ": no poses");
+  return poses;
+}
+
+}  // namespace ndtom::io
