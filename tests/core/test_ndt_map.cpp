@@ -357,3 +357,35 @@ TEST(NdtMapQueries, RegularisedCovarianceIsFlooredButStatisticsStayExact) {
   EXPECT_NEAR(reg->covariance(2, 2), 0.01 * lambda_max, 1e-12);
   EXPECT_EQ(map.cell({3, 0, 0})->stats->scatter(2, 2), 0.0) << "regularisation written back";
 }
+
+TEST(NdtMapThreads, AnyThreadCountGivesTheSameMap) {
+  for (const auto mode : {ndtom::RayMode::PerPoint, ndtom::RayMode::PerHitCell}) {
+    MapOptions o;
+    o.resolution = 0.3;
+    o.insertion.ray_mode = mode;
+    std::vector<NdtMap> maps;
+    for (const int threads : {1, 2, 3}) {
+      o.insertion.threads = threads;
+      NdtMap map(o);
+      std::mt19937 rng(21);
+      for (int scan = 0; scan < 6; ++scan) {
+        Vector3d origin;
+        auto pts = randomScan(rng, &origin);
+        for (int copy = 0; copy < 20; ++copy)  // enough rays to be split over threads
+          for (size_t i = 0; i < 60; ++i) pts.push_back(pts[i] + Vector3d(0.01 * copy, 0, 0));
+        map.insertScan(pts, origin);
+      }
+      maps.push_back(std::move(map));
+    }
+    EXPECT_EQ(ndtom::encodeMap(maps[0]), ndtom::encodeMap(maps[1]));
+    EXPECT_EQ(ndtom::encodeMap(maps[0]), ndtom::encodeMap(maps[2]));
+  }
+}
+
+TEST(NdtMapThreads, BadThreadCountIsRejected) {
+  ndtom::InsertOptions o;
+  o.threads = 0;
+  EXPECT_THROW(ndtom::validate(o), std::invalid_argument);
+  o.threads = 100000;
+  EXPECT_THROW(ndtom::validate(o), std::invalid_argument);
+}

@@ -23,6 +23,11 @@ void NdtMap::StatsPool::reserve(size_t extra) {
   if (extra > free_slots.size()) items.reserve(items.size() + extra - free_slots.size());
 }
 
+NdtMap::Scratch::Scratch() : p_(std::make_unique<ScanScratch>()) {}
+NdtMap::Scratch::~Scratch() = default;
+NdtMap::Scratch::Scratch(Scratch&&) noexcept = default;
+NdtMap::Scratch& NdtMap::Scratch::operator=(Scratch&&) noexcept = default;
+
 NdtMap::NdtMap(const MapOptions& options) : options_(options), geometry_(options.resolution) {
   validate(options_);
 }
@@ -39,7 +44,7 @@ InsertionReport NdtMap::insertScan(const std::vector<Eigen::Vector3d>& points,
 InsertionReport NdtMap::insertScan(const std::vector<Eigen::Vector3d>& points,
                                    const Eigen::Vector3d& sensor_origin,
                                    const InsertOptions& options) {
-  ScanUpdater updater(*this, options);
+  ScanUpdater updater(*this, options, scratch_.get());
   return updater.run(points, sensor_origin);
 }
 
@@ -100,6 +105,7 @@ size_t NdtMap::memoryBytes() const {
 
 void NdtMap::clear() {
   grid_.clear();
+  scratch_ = Scratch();
   stats_ = StatsPool{};
   num_cells_ = 0;
 }

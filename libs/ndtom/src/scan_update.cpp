@@ -1,9 +1,12 @@
 #include "scan_update.h"
 
 #include <algorithm>
+#include <exception>
 #include <stdexcept>
+#include <thread>
 
 #include "ndtom/ray_dda.h"
+#include "radix_sort.h"
 
 namespace ndtom {
 
@@ -28,10 +31,12 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
 void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
   const GridGeometry& geometry = map_.geometry();
   const double max_ray_length = kMaxRayCells * geometry.resolution();
-  ends_.clear();
-  ray_ends_.clear();
-  ends_.reserve(points.size());
-  ray_ends_.reserve(points.size());
+  s_.ends.clear();
+  s_.end_cells.clear();
+  s_.ray_ends.clear();
+  s_.ends.reserve(points.size());
+  s_.end_cells.reserve(points.size());
+  s_.ray_ends.reserve(points.size());
   for (const Eigen::Vector3d& p : points) {
     if (!p.allFinite()) {
       ++report_.rejected_non_finite;
@@ -54,8 +59,9 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
     const bool hit = range <= options_.max_range;
     const Eigen::Vector3d end =
         hit ? p : Eigen::Vector3d(origin_ + (p - origin_) * (options_.max_range / range));
-    ray_ends_.push_back({geometry.cellOf(end), uint32_t(ends_.size()), hit});
-    ends_.push_back(end);
+    s_.ray_ends.push_back({hit ? 1u : 0u, uint32_t(s_.ends.size())});
+    s_.ends.push_back(end);
+    s_.end_cells.push_back(geometry.cellOf(end));
     ++(hit ? report_.hits : report_.truncated);
   }
 }
@@ -63,105 +69,157 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
 // Step 2: gather the ray ends per cell; a hit group's points give N_p and the batch that
 // RCU merges into the cell (Eq. 2, 11).
 void ScanUpdater::groupEndsByCell() {
-  std::sort(ray_ends_.begin(), ray_ends_.end(), [](const RayEnd& a, const RayEnd& b) {
-    if (a.cell != b.cell) return a.cell < b.cell;
-    return a.hit < b.hit;
-  });
-  groups_.clear();
-  std::vector<Eigen::Vector3d> relative;
-  for (size_t begin = 0; begin < ray_ends_.size();) {
-    size_t end = begin;
-    while (end < ray_ends_.size() && ray_ends_[end].cell == ray_ends_[begin].cell &&
-           ray_ends_[end].hit == ray_ends_[begin].hit)
-      ++end;
-    EndGroup g{ray_ends_[begin].cell, ray_ends_[begin].hit, uint32_t(end - begin), {}, {}};
-    const Eigen::Vector3d centre = map_.geometry().cellCenter(g.cell);
-    relative.clear();
-    for (size_t i = begin; i < end; ++i) relative.push_back(ends_[ray_ends_[i].point] - centre);
-    const CellStats stats = CellStats::fromPoints(relative);
+  s_.groups.clear();
+  if (s_.ray_ends.empty()) return;
+  // Dense cell index within the ends' bounding box: at most 2^18 cells per axis, because
+  // rays are at most kMaxRayCells long.
+  CellIndex lo = s_.end_cells[0], hi = lo;
+  for (const CellIndex& c : s_.end_cells)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  const uint64_t nx = uint64_t(hi.x - lo.x) + 1, ny = uint64_t(hi.y - lo.y) + 1;
+  const uint64_t nz = uint64_t(hi.z - lo.z) + 1;
+  for (RayEnd& r : s_.ray_ends) {
+    const CellIndex& c = s_.end_cells[r.point];
+    const uint64_t dense =
+        (uint64_t(c.z - lo.z) * ny + uint64_t(c.y - lo.y)) * nx + uint64_t(c.x - lo.x);
+    r.key |= dense << 1;  // the low bit already holds `hit`
+  }
+  int key_bits = 1;
+  while (key_bits < 64 && (uint64_t(1) << key_bits) < 2 * nx * ny * nz) ++key_bits;
+  radixSortByKey(s_.ray_ends, s_.sort_buffer, key_bits);
+
+  const GridGeometry& geometry = map_.geometry();
+  for (size_t begin = 0; begin < s_.ray_ends.size();) {
+    size_t end = begin + 1;
+    while (end < s_.ray_ends.size() && s_.ray_ends[end].key == s_.ray_ends[begin].key) ++end;
+    EndGroup g;
+    g.cell = s_.end_cells[s_.ray_ends[begin].point];
+    g.hit = (s_.ray_ends[begin].key & 1) != 0;
+    g.count = uint32_t(end - begin);
+    // Two-pass statistics (Eq. 1) of the group, relative to the cell centre.
+    const Eigen::Vector3d centre = geometry.cellCenter(g.cell);
+    CellStats& stats = g.batch;
+    stats.n = g.count;
+    for (size_t i = begin; i < end; ++i) stats.mean += s_.ends[s_.ray_ends[i].point] - centre;
+    stats.mean /= double(g.count);
+    for (size_t i = begin; i < end; ++i) {
+      const Eigen::Vector3d d = s_.ends[s_.ray_ends[i].point] - centre - stats.mean;
+      stats.scatter += d * d.transpose();
+    }
     g.mean_end = centre + stats.mean;
-    if (g.hit) g.batch = stats;
-    groups_.push_back(g);
+    if (!g.hit) stats = CellStats{};
+    s_.groups.push_back(g);
+    report_.cells_hit += g.hit;
     begin = end;
   }
-  report_.cells_hit = size_t(
-      std::count_if(groups_.begin(), groups_.end(), [](const EndGroup& g) { return g.hit; }));
 }
 
-// Step 3: count N_e, the rays crossing each cell without ending in it.
+// Step 3: count N_e, the rays crossing each cell without ending in it. Rays are split in
+// contiguous chunks (neighbouring rays share cells) over threads with their own counters.
 void ScanUpdater::traceFreeRays() {
-  free_counts_.clear();
-  BlockAccessor<CountBlock> counts(free_counts_);
+  const bool per_point = options_.ray_mode == RayMode::PerPoint;
+  const size_t rays = per_point ? s_.ends.size() : s_.groups.size();
+  const size_t threads = std::max<size_t>(1, std::min<size_t>(options_.threads, rays / 256 + 1));
+  if (s_.counts.size() < threads) s_.counts.resize(threads);
+  for (ScanCounts& c : s_.counts) c.clear();
+
   const GridGeometry& geometry = map_.geometry();
-  uint32_t weight = 1;
-  size_t visits = 0;
-  auto count_cell = [&](const CellIndex& c) {
-    counts.getOrCreate(blockOf(c)).count[offsetInBlock(c)] += weight;
-    ++visits;
-    return true;
-  };
-  if (options_.ray_mode == RayMode::PerPoint) {
-    for (const Eigen::Vector3d& end : ends_) traverseRay(geometry, origin_, end, count_cell);
-    report_.rays_cast = ends_.size();
-  } else {
-    for (const EndGroup& g : groups_) {
-      weight = g.count;
-      traverseRay(geometry, origin_, g.mean_end, count_cell);
+  std::vector<size_t> visits(threads, 0);
+  auto trace = [&](size_t t) {
+    CountingVisitor count(s_.counts[t]);
+    const size_t begin = rays * t / threads, end = rays * (t + 1) / threads;
+    for (size_t i = begin; i < end; ++i) {
+      if (per_point) {
+        count = traverseRay(geometry, origin_, s_.ends[i], count);
+      } else {
+        count.setWeight(s_.groups[i].count);
+        count = traverseRay(geometry, origin_, s_.groups[i].mean_end, count);
+      }
     }
-    report_.rays_cast = groups_.size();
+    visits[t] = count.visits();
+  };
+
+  std::vector<std::exception_ptr> errors(threads);
+  std::vector<std::thread> workers;
+  for (size_t t = 1; t < threads; ++t)
+    workers.emplace_back([&, t] {
+      try {
+        trace(t);
+      } catch (...) {
+        errors[t] = std::current_exception();
+      }
+    });
+  try {
+    trace(0);
+  } catch (...) {
+    errors[0] = std::current_exception();
   }
-  report_.voxel_visits = visits;
+  for (std::thread& w : workers) w.join();
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  for (size_t t = 1; t < threads; ++t) {
+    s_.counts[0].addAll(s_.counts[t]);
+    s_.counts[t].clear();
+  }
+  report_.rays_cast = rays;
+  for (size_t n : visits) report_.voxel_visits += n;
 }
 
 // Step 4: Eq. 12 once per touched cell, then the RCU merge of the hits.
 void ScanUpdater::applyToMap() {
   auto& grid = map_.grid_;
+  if (s_.counts.empty()) s_.counts.resize(1);
+  ScanCounts& counts = s_.counts[0];
   // A cell with hits in this scan takes the hit update only (Eq. 12, N_p > 0).
-  for (const EndGroup& g : groups_) {
-    if (!g.hit) continue;
-    if (CountBlock* b = free_counts_.find(blockOf(g.cell))) b->count[offsetInBlock(g.cell)] = 0;
-  }
+  for (const EndGroup& g : s_.groups)
+    if (g.hit)
+      if (uint32_t* n = counts.find(g.cell)) *n = 0;
 
   // Allocate everything first, so the update below cannot fail half-way.
   std::vector<CellIndex> created_blocks;
-  std::vector<std::pair<const CountBlock*, NdtMap::Block*>> free_blocks;
+  std::vector<NdtMap::Block*> map_blocks;
   try {
-    free_blocks.reserve(free_counts_.size());
-    created_blocks.reserve(free_counts_.size() + groups_.size());
-    for (const auto& [index, counts] : free_counts_.blocks()) {
+    map_blocks.reserve(counts.numBlocks());
+    for (size_t i = 0; i < counts.numBlocks(); ++i) {
       bool created = false;
-      free_blocks.emplace_back(counts.get(), &grid.getOrCreate(index, &created));
-      if (created) created_blocks.push_back(index);
+      map_blocks.push_back(&grid.getOrCreate(counts.blockIndex(i), &created));
+      if (created) created_blocks.push_back(counts.blockIndex(i));
     }
-    for (const EndGroup& g : groups_) {
+    for (const EndGroup& g : s_.groups) {
       bool created = false;
       grid.getOrCreate(blockOf(g.cell), &created);
       if (created) created_blocks.push_back(blockOf(g.cell));
     }
-    map_.stats_.reserve(groups_.size());
+    map_.stats_.reserve(s_.groups.size());
   } catch (...) {
     for (const CellIndex& b : created_blocks) grid.erase(b);
+    counts.clear();
     throw;
   }
 
   const OccupancyOptions& occupancy = map_.options().occupancy;
   const double miss = occupancy.missLogOdds();
   const double hit = occupancy.hitLogOdds();
-  for (const auto& [counts, block] : free_blocks) {
+  for (size_t b = 0; b < counts.numBlocks(); ++b) {
+    const CountBlock& block_counts = counts.block(b);
     for (int i = 0; i < kBlockCells; ++i) {
-      if (counts->count[i] == 0) continue;
-      updateCell(*block, i, double(counts->count[i]) * miss, nullptr);
+      if (block_counts.count[i] == 0) continue;
+      updateCell(*map_blocks[b], i, double(block_counts.count[i]) * miss, nullptr);
       ++report_.cells_touched;
     }
+    counts.zeroBlock(b);  // while it is in cache
   }
+  counts.reset();
   BlockAccessor<NdtMap::Block> blocks(grid);
-  for (const EndGroup& g : groups_) {
+  for (const EndGroup& g : s_.groups) {
     if (!g.hit) continue;
     updateCell(blocks.getOrCreate(blockOf(g.cell)), offsetInBlock(g.cell), double(g.count) * hit,
                &g.batch);
     ++report_.cells_touched;
   }
-  free_counts_.clear();
 }
 
 void ScanUpdater::updateCell(NdtMap::Block& block, int offset, double delta_logodds,

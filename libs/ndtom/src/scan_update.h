@@ -2,19 +2,18 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <array>
 #include <vector>
 
-#include "ndtom/block_grid.h"
 #include "ndtom/ndt_map.h"
+#include "scan_counts.h"
 
 namespace ndtom {
 
-/// Where a used point's ray ends: a hit, or the max-range end of a truncated ray.
+/// Where a used point's ray ends (a hit, or the max-range end of a truncated ray), keyed by
+/// its cell so that sorting groups the ends of each cell together.
 struct RayEnd {
-  CellIndex cell;
+  uint64_t key;    ///< dense cell index within the scan's bounding box, times 2, plus `hit`
   uint32_t point;  ///< index into ScanUpdater::ends_
-  bool hit;
 };
 
 /// Rays that end in one cell: the unit of Eq. 12's N_p and of the per-hit-cell ray mode.
@@ -26,14 +25,19 @@ struct EndGroup {
   Eigen::Vector3d mean_end;
 };
 
-/// Free-ray counts N_e of one scan, in blocks shaped like the map's.
-struct CountBlock {
-  std::array<uint32_t, kBlockCells> count{};
+/// Scratch memory reused from scan to scan (kept by the map, not part of its state).
+struct ScanScratch {
+  std::vector<Eigen::Vector3d> ends;  ///< hit points and truncated ray ends, world frame
+  std::vector<CellIndex> end_cells;
+  std::vector<RayEnd> ray_ends, sort_buffer;
+  std::vector<EndGroup> groups;
+  std::vector<ScanCounts> counts;  ///< one per thread; counts[0] receives the sum
 };
 
 class ScanUpdater {
  public:
-  ScanUpdater(NdtMap& map, const InsertOptions& options) : map_(map), options_(options) {}
+  ScanUpdater(NdtMap& map, const InsertOptions& options, ScanScratch& scratch)
+      : map_(map), options_(options), s_(scratch) {}
 
   InsertionReport run(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& origin);
 
@@ -46,12 +50,9 @@ class ScanUpdater {
 
   NdtMap& map_;
   const InsertOptions& options_;
+  ScanScratch& s_;
   InsertionReport report_;
   Eigen::Vector3d origin_;
-  std::vector<Eigen::Vector3d> ends_;  ///< hit points and truncated ray ends, world frame
-  std::vector<RayEnd> ray_ends_;
-  std::vector<EndGroup> groups_;
-  BlockGrid<CountBlock> free_counts_;
 };
 
 }  // namespace ndtom

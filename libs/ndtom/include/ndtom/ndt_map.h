@@ -10,6 +10,7 @@
 #include <array>
 #include <bitset>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -21,6 +22,8 @@
 #include "ndtom/options.h"
 
 namespace ndtom {
+
+struct ScanScratch;
 
 /// Read-only view of one known cell.
 struct CellView {
@@ -117,6 +120,21 @@ class NdtMap {
     size_t size() const { return items.size() - free_slots.size(); }
   };
 
+  /// Insertion's reusable buffers: owned, never copied, not part of the map's value.
+  class Scratch {
+   public:
+    Scratch();
+    ~Scratch();
+    Scratch(const Scratch&) : Scratch() {}
+    Scratch& operator=(const Scratch&) { return *this; }
+    Scratch(Scratch&&) noexcept;
+    Scratch& operator=(Scratch&&) noexcept;
+    ScanScratch& get() { return *p_; }
+
+   private:
+    std::unique_ptr<ScanScratch> p_;
+  };
+
   friend class ScanUpdater;
 
   template <class F>
@@ -129,6 +147,7 @@ class NdtMap {
   BlockGrid<Block> grid_;
   StatsPool stats_;
   size_t num_cells_ = 0;
+  Scratch scratch_;
 };
 
 // --- Template implementations ------------------------------------------------------------

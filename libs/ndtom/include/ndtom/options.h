@@ -39,6 +39,9 @@ struct InsertOptions {
                                                                ///< free ray truncated here and no
                                                                ///< hit (Default: no limit)
   RayMode ray_mode = RayMode::PerPoint;
+  /// Threads tracing free rays (Default: 1). The map does not depend on it: counts are
+  /// integers summed over threads. Not stored in map files.
+  int threads = 1;
 };
 
 struct MapOptions {

@@ -1,0 +1,141 @@
+// Scan-local free-ray counters N_e (Eq. 12), in blocks shaped like the map's, behind a small
+// open-addressing table. Block memory is reused across scans. The hot loop (CountingVisitor)
+// caches the current block, so a visit is a compare and an increment.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "ndtom/block_grid.h"
+
+namespace ndtom {
+
+struct CountBlock {
+  std::array<uint32_t, kBlockCells> count;
+};
+
+class ScanCounts {
+ public:
+  ScanCounts() { rehash(1024); }
+
+  /// The counters of a block, created (zeroed) on first use this scan.
+  CountBlock& blockAt(const CellIndex& block) { return blockFor(block); }
+
+  /// Counter of a cell, or nullptr if no ray crossed its block.
+  uint32_t* find(const CellIndex& c) {
+    const int64_t slot = findSlot(blockOf(c));
+    return slot < 0 ? nullptr : &blocks_[table_[size_t(slot)].block].count[offsetInBlock(c)];
+  }
+
+  size_t numBlocks() const { return used_.size(); }
+  const CellIndex& blockIndex(size_t i) const { return used_[i]; }
+  CountBlock& block(size_t i) { return blocks_[i]; }
+
+  /// Adds every counter of `other` into this one.
+  void addAll(const ScanCounts& other) {
+    for (size_t i = 0; i < other.used_.size(); ++i) {
+      CountBlock& mine = blockFor(other.used_[i]);
+      const CountBlock& theirs = other.blocks_[i];
+      for (int k = 0; k < kBlockCells; ++k) mine.count[k] += theirs.count[k];
+    }
+  }
+
+  /// Forgets all blocks; their memory is kept for the next scan. Callers zero the blocks
+  /// they read (while they are in cache) with zeroBlock(), or clear() does it.
+  void clear() {
+    for (size_t i = 0; i < used_.size(); ++i) zeroBlock(i);
+    reset();
+  }
+  void zeroBlock(size_t i) { std::memset(blocks_[i].count.data(), 0, sizeof(CountBlock)); }
+  /// After every block was zeroed by zeroBlock().
+  void reset() {
+    // Erasing entry by entry would break linear-probe chains; the table is small (16 bytes
+    // per slot, under 4 slots per 2 KiB block), so wipe it whole.
+    std::fill(table_.begin(), table_.end(), Entry{});
+    used_.clear();
+  }
+
+ private:
+  static constexpr uint32_t kEmpty = UINT32_MAX;
+  struct Entry {
+    CellIndex key;
+    uint32_t block = kEmpty;  ///< index into blocks_ and used_
+  };
+
+  CountBlock& blockFor(const CellIndex& b) {
+    size_t slot = CellIndexHash{}(b)&mask_;
+    for (;; slot = (slot + 1) & mask_) {
+      Entry& e = table_[slot];
+      if (e.block == kEmpty) break;
+      if (e.key == b) return blocks_[e.block];
+    }
+    // New block this scan: reuse zeroed memory from earlier scans when there is some.
+    const uint32_t index = uint32_t(used_.size());
+    if (index == blocks_.size()) {
+      blocks_.emplace_back();
+      std::memset(blocks_.back().count.data(), 0, sizeof(CountBlock));
+    }
+    used_.push_back(b);
+    table_[slot] = {b, index};
+    if (2 * used_.size() > table_.size()) {  // keep the load factor under 1/2
+      rehash(table_.size() * 2);
+    }
+    return blocks_[index];
+  }
+
+  int64_t findSlot(const CellIndex& b) const {
+    for (size_t slot = CellIndexHash{}(b)&mask_;; slot = (slot + 1) & mask_) {
+      const Entry& e = table_[slot];
+      if (e.block == kEmpty) return -1;
+      if (e.key == b) return int64_t(slot);
+    }
+  }
+
+  void rehash(size_t capacity) {
+    table_.assign(capacity, Entry{});
+    mask_ = capacity - 1;
+    for (uint32_t i = 0; i < used_.size(); ++i) {
+      size_t slot = CellIndexHash{}(used_[i]) & mask_;
+      while (table_[slot].block != kEmpty) slot = (slot + 1) & mask_;
+      table_[slot] = {used_[i], i};
+    }
+  }
+
+  std::vector<Entry> table_;
+  size_t mask_ = 0;
+  std::vector<CountBlock> blocks_;  ///< blocks_[i] belongs to used_[i]; the rest are spare
+  std::vector<CellIndex> used_;
+};
+
+/// The ray visitor of the free-space pass: adds `weight` to every cell it is given.
+class CountingVisitor {
+ public:
+  explicit CountingVisitor(ScanCounts& counts) : counts_(&counts) {}
+  void setWeight(uint32_t w) { weight_ = w; }
+  size_t visits() const { return visits_; }
+
+  bool operator()(const CellIndex& c) {
+    // Same block iff the coordinates agree above the in-block bits.
+    const uint32_t differs = uint32_t(c.x ^ cached_cell_.x) | uint32_t(c.y ^ cached_cell_.y) |
+                             uint32_t(c.z ^ cached_cell_.z);
+    if ((differs >> kBlockLog2) != 0 || !cached_) {
+      cached_ = &counts_->blockAt(blockOf(c));
+      cached_cell_ = c;
+    }
+    cached_->count[offsetInBlock(c)] += weight_;
+    ++visits_;
+    return true;
+  }
+
+ private:
+  ScanCounts* counts_;
+  CountBlock* cached_ = nullptr;
+  CellIndex cached_cell_;
+  uint32_t weight_ = 1;
+  size_t visits_ = 0;
+};
+
+}  // namespace ndtom
