@@ -110,30 +110,49 @@ class ScanCounts {
   std::vector<CellIndex> used_;
 };
 
-/// The ray visitor of the free-space pass: adds `weight` to every cell it is given.
-class CountingVisitor {
+/// The ray walker of the free-space pass (see walkRay): adds `weight` to every cell visited.
+/// It follows the walk incrementally, block and in-block coordinates, so a visit is an
+/// increment and a block is looked up only when the ray leaves it.
+class CountingWalker {
  public:
-  explicit CountingVisitor(ScanCounts& counts) : counts_(&counts) {}
+  explicit CountingWalker(ScanCounts& counts) : counts_(&counts) {}
   void setWeight(uint32_t w) { weight_ = w; }
   size_t visits() const { return visits_; }
 
-  bool operator()(const CellIndex& c) {
-    // Same block iff the coordinates agree above the in-block bits.
-    const uint32_t differs = uint32_t(c.x ^ cached_cell_.x) | uint32_t(c.y ^ cached_cell_.y) |
-                             uint32_t(c.z ^ cached_cell_.z);
-    if ((differs >> kBlockLog2) != 0 || !cached_) {
-      cached_ = &counts_->blockAt(blockOf(c));
-      cached_cell_ = c;
+  void start(const CellIndex& c) {
+    const CellIndex b = blockOf(c);
+    if (!block_counts_ || b != block_) {  // rays share their origin's block
+      block_ = b;
+      block_counts_ = &counts_->blockAt(b);
     }
-    cached_->count[offsetInBlock(c)] += weight_;
+    constexpr int32_t mask = kBlockEdge - 1;
+    local_[0] = c.x & mask;
+    local_[1] = c.y & mask;
+    local_[2] = c.z & mask;
+  }
+
+  template <int Axis>
+  void move(int32_t step) {
+    local_[Axis] += step;
+    if (uint32_t(local_[Axis]) >= uint32_t(kBlockEdge)) {  // left the block
+      local_[Axis] &= kBlockEdge - 1;
+      block_[Axis] += step;
+      block_counts_ = &counts_->blockAt(block_);
+    }
+  }
+
+  bool visit() {
+    block_counts_->count[(local_[2] << (2 * kBlockLog2)) | (local_[1] << kBlockLog2) | local_[0]] +=
+        weight_;
     ++visits_;
     return true;
   }
 
  private:
   ScanCounts* counts_;
-  CountBlock* cached_ = nullptr;
-  CellIndex cached_cell_;
+  CountBlock* block_counts_ = nullptr;
+  CellIndex block_;
+  int32_t local_[3] = {0, 0, 0};
   uint32_t weight_ = 1;
   size_t visits_ = 0;
 };

@@ -129,14 +129,14 @@ void ScanUpdater::traceFreeRays() {
   const GridGeometry& geometry = map_.geometry();
   std::vector<size_t> visits(threads, 0);
   auto trace = [&](size_t t) {
-    CountingVisitor count(s_.counts[t]);
+    CountingWalker count(s_.counts[t]);
     const size_t begin = rays * t / threads, end = rays * (t + 1) / threads;
     for (size_t i = begin; i < end; ++i) {
       if (per_point) {
-        count = traverseRay(geometry, origin_, s_.ends[i], count);
+        count = walkRay(geometry, origin_, s_.ends[i], count);
       } else {
         count.setWeight(s_.groups[i].count);
-        count = traverseRay(geometry, origin_, s_.groups[i].mean_end, count);
+        count = walkRay(geometry, origin_, s_.groups[i].mean_end, count);
       }
     }
     visits[t] = count.visits();
@@ -189,6 +189,7 @@ void ScanUpdater::applyToMap() {
       if (created) created_blocks.push_back(counts.blockIndex(i));
     }
     for (const EndGroup& g : s_.groups) {
+      if (!g.hit) continue;
       bool created = false;
       grid.getOrCreate(blockOf(g.cell), &created);
       if (created) created_blocks.push_back(blockOf(g.cell));
@@ -200,16 +201,10 @@ void ScanUpdater::applyToMap() {
     throw;
   }
 
-  const OccupancyOptions& occupancy = map_.options().occupancy;
-  const double miss = occupancy.missLogOdds();
-  const double hit = occupancy.hitLogOdds();
+  const double miss = map_.options().occupancy.missLogOdds();
+  const double hit = map_.options().occupancy.hitLogOdds();
   for (size_t b = 0; b < counts.numBlocks(); ++b) {
-    const CountBlock& block_counts = counts.block(b);
-    for (int i = 0; i < kBlockCells; ++i) {
-      if (block_counts.count[i] == 0) continue;
-      updateCell(*map_blocks[b], i, double(block_counts.count[i]) * miss, nullptr);
-      ++report_.cells_touched;
-    }
+    applyFreeCounts(counts.block(b), *map_blocks[b], miss);
     counts.zeroBlock(b);  // while it is in cache
   }
   counts.reset();
@@ -220,6 +215,32 @@ void ScanUpdater::applyToMap() {
                &g.batch);
     ++report_.cells_touched;
   }
+}
+
+// Eq. 12 for the cells of one block that rays crossed without a hit: the bulk of the
+// update, so it avoids the general updateCell path for cells without statistics.
+void ScanUpdater::applyFreeCounts(const CountBlock& counts, NdtMap::Block& block, double miss) {
+  const double lo = map_.options().occupancy.logodds_min;
+  const double hi = map_.options().occupancy.logodds_max;
+  size_t touched = 0, created = 0;
+  for (int i = 0; i < kBlockCells; ++i) {
+    const uint32_t n = counts.count[i];
+    if (n == 0) continue;
+    ++touched;
+    if (block.stats[i] != NdtMap::kNoStats) {
+      updateCell(block, i, double(n) * miss, nullptr);
+      continue;
+    }
+    if (!block.known[i]) {
+      block.known.set(i);
+      block.logodds[i] = 0.f;
+      ++created;
+    }
+    block.logodds[i] = float(std::clamp(double(block.logodds[i]) + double(n) * miss, lo, hi));
+  }
+  report_.cells_touched += touched;
+  report_.cells_created += created;
+  map_.num_cells_ += created;
 }
 
 void ScanUpdater::updateCell(NdtMap::Block& block, int offset, double delta_logodds,

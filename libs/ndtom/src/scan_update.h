@@ -46,6 +46,7 @@ class ScanUpdater {
   void groupEndsByCell();
   void traceFreeRays();
   void applyToMap();
+  void applyFreeCounts(const CountBlock& counts, NdtMap::Block& block, double miss);
   void updateCell(NdtMap::Block& block, int offset, double delta_logodds, const CellStats* batch);
 
   NdtMap& map_;
