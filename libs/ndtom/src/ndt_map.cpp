@@ -21,6 +21,8 @@ uint32_t NdtMap::StatsPool::add(const CellStats& s) {
 
 void NdtMap::StatsPool::reserve(size_t extra) {
   if (extra > free_slots.size()) items.reserve(items.size() + extra - free_slots.size());
+  // remove() must not allocate either: every live slot may be freed.
+  free_slots.reserve(items.capacity());
 }
 
 NdtMap::Scratch::Scratch() : p_(std::make_unique<ScanScratch>()) {}

@@ -114,8 +114,9 @@ class NdtMap {
   struct StatsPool {
     std::vector<CellStats> items;
     std::vector<uint32_t> free_slots;
-    uint32_t add(const CellStats& s);  ///< noexcept once reserve() made room
+    uint32_t add(const CellStats& s);
     void remove(uint32_t slot) { free_slots.push_back(slot); }
+    /// Room for `extra` add() calls and any number of remove() calls without allocating.
     void reserve(size_t extra);
     size_t size() const { return items.size() - free_slots.size(); }
   };
