@@ -1,0 +1,65 @@
+#include "clouds.h"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "ndtom_io/pcd_reader.h"
+#include "ndtom_io/pose_file.h"
+#include "ndtom_io/tum_rgbd.h"
+
+namespace ndtom::eval {
+
+namespace {
+
+Cloud transformed(std::string name, const std::vector<Eigen::Vector3d>& sensor_points,
+                  const Eigen::Isometry3d& sensor_to_world) {
+  Cloud cloud;
+  cloud.name = std::move(name);
+  cloud.origin = sensor_to_world.translation();
+  cloud.points.reserve(sensor_points.size());
+  for (const Eigen::Vector3d& p : sensor_points)
+    if (p.allFinite()) cloud.points.push_back(sensor_to_world * p);
+  return cloud;
+}
+
+size_t howMany(size_t available, int wanted) {
+  return wanted > 0 ? std::min(available, size_t(wanted)) : available;
+}
+
+}  // namespace
+
+std::vector<Cloud> loadTumClouds(const std::string& folder, int max_frames, int decimation) {
+  const io::TumSequence sequence = io::readTumSequence(folder);
+  if (sequence.frames.empty()) throw std::runtime_error("TUM sequence " + folder + ": no frames");
+  const io::DepthCamera camera;  // TUM's default intrinsics for registered depth
+  std::vector<Cloud> clouds;
+  for (size_t i = 0; i < howMany(sequence.frames.size(), max_frames); ++i) {
+    const io::TumFrame& f = sequence.frames[i];
+    clouds.push_back(transformed(f.depth_path,
+                                 io::readDepthImagePoints(f.depth_path, camera, decimation),
+                                 f.camera_to_world));
+  }
+  return clouds;
+}
+
+std::vector<Cloud> loadLidarClouds(const std::string& folder, int max_scans) {
+  const std::string pose_path = folder + "/poses.txt";
+  if (!std::filesystem::exists(pose_path))
+    throw std::runtime_error("lidar folder " + folder + ": no poses.txt");
+  const auto poses = io::readPoseFile(pose_path, io::PoseFormat::Kitti);
+  if (poses.empty()) throw std::runtime_error(pose_path + ": no poses");
+  std::vector<Cloud> clouds;
+  for (size_t i = 0; i < howMany(poses.size(), max_scans); ++i) {
+    const std::string path = folder + "/full" + std::to_string(i) + ".pcd";
+    clouds.push_back(transformed(path, io::readPcd(path).points, poses[i].pose));
+  }
+  return clouds;
+}
+
+size_t totalPoints(const std::vector<Cloud>& clouds) {
+  size_t n = 0;
+  for (const Cloud& c : clouds) n += c.points.size();
+  return n;
+}
+
+}  // namespace ndtom::eval

@@ -1,0 +1,41 @@
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+#include "experiments.h"
+
+namespace ndtom::eval {
+
+void Summary::print() const {
+  std::printf("\nSummary\n");
+  for (const auto& [key, value] : items_) std::printf("  %-44s %s\n", key.c_str(), value.c_str());
+}
+
+void Summary::write(const std::string& path) const {
+  CsvTable table({"key", "value"});
+  for (const auto& [key, value] : items_) table.addRow({key, value});
+  table.write(path);
+}
+
+MapOptions recursiveNdtOptions(double resolution) {
+  MapOptions o;
+  o.resolution = resolution;
+  o.occupancy.enabled = false;
+  return o;
+}
+
+MapOptions ndtOmOptions(double resolution, RayMode ray_mode) {
+  MapOptions o;
+  o.resolution = resolution;
+  o.insertion.ray_mode = ray_mode;
+  return o;
+}
+
+std::vector<Eigen::Vector3d> allPoints(const std::vector<Cloud>& clouds) {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(totalPoints(clouds));
+  for (const Cloud& c : clouds) points.insert(points.end(), c.points.begin(), c.points.end());
+  return points;
+}
+
+}  // namespace ndtom::eval

@@ -1,0 +1,156 @@
+// Paper Sec. IV-B-2 on the lidar sequence: Fig. 3 (mean log-odds of occupied and of empty
+// cells after every scan) and the "dynamic" conflicts: cells that hold a Gaussian in
+// Recursive NDT but are empty in NDT-OM.
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "experiments.h"
+#include "line_plot.h"
+#include "progress.h"
+#include "top_view.h"
+
+namespace ndtom::eval {
+
+namespace {
+
+struct OccupancyStats {
+  size_t known = 0, occupied = 0, empty = 0;
+  double mean_occupied = 0, mean_empty = 0;  ///< mean log-odds; 0 when there are none
+};
+
+OccupancyStats occupancyStats(const NdtMap& map) {
+  OccupancyStats s;
+  double sum_occupied = 0, sum_empty = 0;
+  map.forEachCell([&](const CellView& c) {
+    ++s.known;
+    if (c.logodds > 0) {
+      ++s.occupied;
+      sum_occupied += c.logodds;
+    } else if (c.logodds < 0) {
+      ++s.empty;
+      sum_empty += c.logodds;
+    }
+  });
+  if (s.occupied) s.mean_occupied = sum_occupied / double(s.occupied);
+  if (s.empty) s.mean_empty = sum_empty / double(s.empty);
+  return s;
+}
+
+void plotFig3(EvalContext& ctx, const CsvTable& table) {
+  const std::vector<double> x = table.column("scan");
+  PlotAxes axes{"Fig. 3: mean log-odds of occupied and empty cells (NDT-OM)", "scans inserted",
+                "mean log-odds"};
+  writeLinePlot(ctx.output("fig3_occupancy.png"), axes,
+                {{"occupied (l > 0)", x, table.column("mean_logodds_occupied"), colors::kNdtOm},
+                 {"empty (l < 0)", x, table.column("mean_logodds_empty"), colors::kEr}});
+}
+
+// Cells with a Gaussian in Recursive NDT whose NDT-OM log-odds is ≤ 0 (observed empty: NDT-OM
+// dropped or never kept a Gaussian there).
+std::vector<CellIndex> dynamicConflicts(const MappingMaps& maps) {
+  std::vector<CellIndex> conflicts;
+  maps.recursive.forEachCell([&](const CellView& c) {
+    if (!c.stats || !c.stats->hasGaussian()) return;
+    const auto other = maps.ndtom.cell(c.index);
+    if (other && other->logodds <= 0.f) conflicts.push_back(c.index);
+  });
+  return conflicts;
+}
+
+double medianPoints(const NdtMap& map, const std::vector<CellIndex>& cells) {
+  std::vector<uint32_t> n;
+  for (const CellIndex& c : cells) n.push_back(map.cell(c)->stats->n);
+  if (n.empty()) return 0.0;
+  std::nth_element(n.begin(), n.begin() + long(n.size() / 2), n.end());
+  return n[n.size() / 2];
+}
+
+// Where the conflicts are: per 1 m band of height above the first sensor position.
+void writeConflictsByHeight(EvalContext& ctx, const MappingMaps& maps,
+                            const std::vector<CellIndex>& conflicts) {
+  const double sensor_z = maps.path.front().z();
+  std::map<int, std::pair<size_t, size_t>> bands;  // band -> (Gaussians, conflicts)
+  auto band = [&](const Eigen::Vector3d& p) { return int(std::floor(p.z() - sensor_z)); };
+  maps.recursive.forEachGaussian([&](const Gaussian& g) { ++bands[band(g.mean)].first; }, false);
+  for (const CellIndex& c : conflicts)
+    ++bands[band(maps.recursive.gaussian(c, false)->mean)].second;
+  CsvTable table({"height_above_sensor_min_m", "height_above_sensor_max_m", "recursive_gaussians",
+                  "conflicts", "conflict_share"});
+  for (const auto& [b, counts] : bands)
+    table.addRow({b, b + 1, counts.first, counts.second,
+                  double(counts.second) / double(std::max<size_t>(1, counts.first))});
+  table.write(ctx.output("conflicts_by_height.csv"));
+}
+
+void drawConflicts(EvalContext& ctx, const MappingMaps& maps,
+                   const std::vector<CellIndex>& conflicts) {
+  std::vector<Gaussian> gaussians;
+  std::vector<Eigen::Vector3d> extent = maps.path;
+  maps.recursive.forEachGaussian([&](const Gaussian& g) {
+    gaussians.push_back(g);
+    extent.push_back(g.mean);
+  });
+  if (gaussians.empty()) return;
+  TopView view(extent);
+  view.drawGaussians(gaussians, cv::Scalar::all(175));
+  view.drawCells(conflicts, maps.recursive.geometry().resolution(), {0, 0, 230});
+  view.drawPath(maps.path, {200, 90, 30});
+  view.drawLegend({{"Gaussian in Recursive NDT (1-sigma, top view)", cv::Scalar::all(175)},
+                   {"conflict: Gaussian in Recursive NDT, empty in NDT-OM", {0, 0, 230}},
+                   {"sensor path", {200, 90, 30}}});
+  view.write(ctx.output("conflicts_top.png"));
+}
+
+void reportConflicts(EvalContext& ctx, const MappingMaps& maps) {
+  const std::vector<CellIndex> conflicts = dynamicConflicts(maps);
+  const size_t ndtom_gaussians = maps.ndtom.numGaussians();
+  ctx.summary.add("conflicts_count", conflicts.size());
+  ctx.summary.add("conflicts_recursive_gaussians", maps.recursive.numGaussians());
+  ctx.summary.add("conflicts_ndtom_gaussians", ndtom_gaussians);
+  ctx.summary.add("conflicts_ndtom_known_cells", maps.ndtom.numCells());
+  ctx.summary.add("conflicts_share_of_ndtom_gaussians",
+                  double(conflicts.size()) / double(std::max<size_t>(1, ndtom_gaussians)));
+  ctx.summary.add("conflicts_share_of_ndtom_known_cells",
+                  double(conflicts.size()) / double(std::max<size_t>(1, maps.ndtom.numCells())));
+  std::vector<CellIndex> all_gaussians;
+  maps.recursive.forEachCell([&](const CellView& c) {
+    if (c.stats && c.stats->hasGaussian()) all_gaussians.push_back(c.index);
+  });
+  ctx.summary.add("conflicts_median_points_per_conflict_cell",
+                  medianPoints(maps.recursive, conflicts));
+  ctx.summary.add("conflicts_median_points_per_recursive_gaussian",
+                  medianPoints(maps.recursive, all_gaussians));
+  writeConflictsByHeight(ctx, maps, conflicts);
+  drawConflicts(ctx, maps, conflicts);
+}
+
+}  // namespace
+
+MappingMaps runMapping(EvalContext& ctx, const std::vector<Cloud>& clouds, bool record) {
+  const double resolution = ctx.options.mapping_resolution;
+  MappingMaps maps{NdtMap(recursiveNdtOptions(resolution)), NdtMap(ndtOmOptions(resolution)), {}};
+  CsvTable table({"scan", "known_cells", "occupied_cells", "empty_cells", "mean_logodds_occupied",
+                  "mean_logodds_empty", "ndtom_gaussians", "recursive_gaussians"});
+  Progress progress("mapping", clouds.size());
+  for (size_t i = 0; i < clouds.size(); ++i) {
+    maps.recursive.insertScan(clouds[i].points, clouds[i].origin);
+    maps.ndtom.insertScan(clouds[i].points, clouds[i].origin);
+    maps.path.push_back(clouds[i].origin);
+    if (record) {
+      const OccupancyStats s = occupancyStats(maps.ndtom);
+      table.addRow({i + 1, s.known, s.occupied, s.empty, s.mean_occupied, s.mean_empty,
+                    maps.ndtom.numGaussians(), maps.recursive.numGaussians()});
+    }
+    progress.step();
+  }
+  if (!record) return maps;
+  table.write(ctx.output("fig3_occupancy.csv"));
+  plotFig3(ctx, table);
+  ctx.summary.add("fig3_final_mean_logodds_occupied", table.column("mean_logodds_occupied").back());
+  ctx.summary.add("fig3_final_mean_logodds_empty", table.column("mean_logodds_empty").back());
+  reportConflicts(ctx, maps);
+  return maps;
+}
+
+}  // namespace ndtom::eval

@@ -1,0 +1,88 @@
+// The experiments of ndtom-eval (paper Sec. IV), one file each, and what they share.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "clouds.h"
+#include "csv_table.h"
+#include "eval_options.h"
+#include "ndtom/map_similarity.h"
+#include "ndtom/ndt_map.h"
+
+namespace ndtom::eval {
+
+/// Headline numbers of a run: printed at the end and written to summary.csv.
+class Summary {
+ public:
+  void add(const std::string& key, const CsvCell& value) { items_.emplace_back(key, value.text); }
+  void print() const;
+  void write(const std::string& path) const;
+
+ private:
+  std::vector<std::pair<std::string, std::string>> items_;
+};
+
+struct EvalContext {
+  const EvalOptions& options;
+  Summary& summary;
+  CovarianceFloor floor;
+  std::vector<std::string> files_written;
+
+  std::string path(const std::string& file_name) const { return options.out_dir + "/" + file_name; }
+  /// Full path of an output file, remembered for the final report.
+  std::string output(const std::string& file_name) {
+    files_written.push_back(file_name);
+    return path(file_name);
+  }
+};
+
+/// Recursive NDT: RCU only, no rays, no occupancy (the paper's "Recursive NDT").
+MapOptions recursiveNdtOptions(double resolution);
+/// NDT-OM with the library's default occupancy parameters (p_o 0.6, p_e 0.49, clamp [-2, 3.5]).
+MapOptions ndtOmOptions(double resolution, RayMode ray_mode = RayMode::PerPoint);
+
+/// Fig. 1 (each map vs the batch map after every cloud) and Fig. 2 (every cloud vs each
+/// final map) for ER, Recursive NDT and NDT-OM. `dataset` names the output files.
+void runConsistency(EvalContext& ctx, const std::string& dataset, const std::vector<Cloud>& clouds,
+                    double resolution);
+
+/// Recursive NDT and NDT-OM built from all clouds at the mapping resolution.
+struct MappingMaps {
+  NdtMap recursive, ndtom;
+  std::vector<Eigen::Vector3d> path;  ///< sensor origins
+};
+/// Builds the maps; with `record` also Fig. 3 (mean log-odds after every scan) and the
+/// dynamic conflicts (Sec. IV-B-2).
+MappingMaps runMapping(EvalContext& ctx, const std::vector<Cloud>& clouds, bool record);
+
+/// Sec. IV-B-2: Gaussian counts of the fine map and of the map derived by RCU, and the check
+/// of the derived map against a batch map at the coarse resolution.
+void runMultiResolution(EvalContext& ctx, const std::vector<Cloud>& clouds,
+                        const MappingMaps& maps);
+
+/// Similarity to the batch map, memory and insertion time over a range of resolutions.
+void runResolutionSweep(EvalContext& ctx, const std::vector<Cloud>& clouds);
+
+/// RayMode::PerHitCell against the reference RayMode::PerPoint.
+void runRayModes(EvalContext& ctx, const std::vector<Cloud>& clouds);
+
+/// Wall-clock seconds of f().
+template <class F>
+double timed(F&& f);
+
+/// Every cloud's points in one vector.
+std::vector<Eigen::Vector3d> allPoints(const std::vector<Cloud>& clouds);
+
+}  // namespace ndtom::eval
+
+#include <chrono>
+
+template <class F>
+double ndtom::eval::timed(F&& f) {
+  const auto start = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}

@@ -1,0 +1,126 @@
+#include "top_view.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+namespace ndtom::eval {
+
+namespace {
+constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
+const cv::Scalar kText{20, 20, 20};
+constexpr double kRadToDeg = 180.0 / M_PI;
+}  // namespace
+
+cv::Scalar viridis(double t) {
+  static const cv::Mat lut = [] {
+    cv::Mat grey(1, 256, CV_8UC1), colored;
+    for (int i = 0; i < 256; ++i) grey.at<uint8_t>(0, i) = uint8_t(i);
+    cv::applyColorMap(grey, colored, cv::COLORMAP_VIRIDIS);
+    return colored;
+  }();
+  const int i = std::clamp(int(std::lround(t * 255.0)), 0, 255);
+  const cv::Vec3b c = lut.at<cv::Vec3b>(0, i);
+  return {double(c[0]), double(c[1]), double(c[2])};
+}
+
+TopView::TopView(const std::vector<Eigen::Vector3d>& extent, double margin, int max_pixels) {
+  if (extent.empty()) throw std::invalid_argument("TopView: nothing to show");
+  Eigen::Vector2d lo = extent[0].head<2>(), hi = lo;
+  for (const Eigen::Vector3d& p : extent) {
+    lo = lo.cwiseMin(p.head<2>());
+    hi = hi.cwiseMax(p.head<2>());
+  }
+  lo.array() -= margin;
+  hi.array() += margin;
+  metres_per_pixel_ = std::max(hi.x() - lo.x(), hi.y() - lo.y()) / max_pixels;
+  x_min_ = lo.x();
+  y_max_ = hi.y();
+  const int cols = int(std::ceil((hi.x() - lo.x()) / metres_per_pixel_));
+  const int rows = int(std::ceil((hi.y() - lo.y()) / metres_per_pixel_));
+  image_ = cv::Mat(rows, cols, CV_8UC3, cv::Scalar::all(255));
+}
+
+cv::Point2d TopView::toPixel(double x, double y) const {
+  return {(x - x_min_) / metres_per_pixel_, (y_max_ - y) / metres_per_pixel_};
+}
+
+void TopView::drawEllipse(const Gaussian& g, const cv::Scalar& color) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(g.covariance.topLeftCorner<2, 2>());
+  const Eigen::Vector2d sigma = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  const Eigen::Vector2d major = eig.eigenvectors().col(1);
+  // Image y points down: the angle flips sign.
+  const double angle = -std::atan2(major.y(), major.x()) * kRadToDeg;
+  const cv::Size axes(std::max(1, int(std::lround(sigma[1] / metres_per_pixel_))),
+                      std::max(1, int(std::lround(sigma[0] / metres_per_pixel_))));
+  cv::ellipse(image_, cv::Point(toPixel(g.mean.x(), g.mean.y())), axes, angle, 0, 360, color,
+              cv::FILLED, cv::LINE_AA);
+}
+
+void TopView::drawGaussians(const std::vector<Gaussian>& gaussians, const cv::Scalar& color) {
+  for (const Gaussian& g : gaussians) drawEllipse(g, color);
+}
+
+void TopView::drawGaussiansByHeight(std::vector<Gaussian> gaussians, double z_min, double z_max) {
+  std::sort(gaussians.begin(), gaussians.end(),
+            [](const Gaussian& a, const Gaussian& b) { return a.mean.z() < b.mean.z(); });
+  for (const Gaussian& g : gaussians)
+    drawEllipse(g, viridis((g.mean.z() - z_min) / (z_max - z_min)));
+}
+
+void TopView::drawCells(const std::vector<CellIndex>& cells, double resolution,
+                        const cv::Scalar& color) {
+  for (const CellIndex& c : cells) {
+    const cv::Point2d a = toPixel(c.x * resolution, (c.y + 1) * resolution);
+    const cv::Point2d b = toPixel((c.x + 1) * resolution, c.y * resolution);
+    cv::rectangle(image_, cv::Point(a), cv::Point(b), color, cv::FILLED);
+  }
+}
+
+void TopView::drawPath(const std::vector<Eigen::Vector3d>& path, const cv::Scalar& color) {
+  std::vector<cv::Point> pixels;
+  for (const Eigen::Vector3d& p : path) pixels.emplace_back(toPixel(p.x(), p.y()));
+  cv::polylines(image_, pixels, false, color, 3, cv::LINE_AA);
+}
+
+void TopView::drawLegend(const std::vector<std::pair<std::string, cv::Scalar>>& entries) {
+  int y = 25;
+  for (const auto& [text, color] : entries) {
+    cv::rectangle(image_, {12, y - 12}, {28, y + 4}, color, cv::FILLED);
+    cv::putText(image_, text, {36, y + 2}, kFont, 0.6, kText, 1, cv::LINE_AA);
+    y += 26;
+  }
+  // Scale bar of a round length close to a sixth of the width.
+  const double width_m = image_.cols * metres_per_pixel_;
+  double bar = std::pow(10.0, std::floor(std::log10(width_m / 6)));
+  if (bar * 5 <= width_m / 6)
+    bar *= 5;
+  else if (bar * 2 <= width_m / 6)
+    bar *= 2;
+  const int length = int(std::lround(bar / metres_per_pixel_)), by = image_.rows - 20;
+  cv::line(image_, {20, by}, {20 + length, by}, kText, 3);
+  char label[32];
+  std::snprintf(label, sizeof(label), "%g m", bar);
+  cv::putText(image_, label, {28 + length, by + 5}, kFont, 0.6, kText, 1, cv::LINE_AA);
+}
+
+void TopView::drawHeightBar(double z_min, double z_max) {
+  const int x = image_.cols - 30, top = 40, bottom = std::min(image_.rows - 40, 340);
+  for (int y = top; y <= bottom; ++y)
+    cv::line(image_, {x, y}, {x + 18, y}, viridis(double(bottom - y) / (bottom - top)));
+  char label[32];
+  std::snprintf(label, sizeof(label), "z %.1f m", z_max);
+  cv::putText(image_, label, {x - 95, top + 5}, kFont, 0.5, kText, 1, cv::LINE_AA);
+  std::snprintf(label, sizeof(label), "z %.1f m", z_min);
+  cv::putText(image_, label, {x - 95, bottom + 5}, kFont, 0.5, kText, 1, cv::LINE_AA);
+}
+
+void TopView::write(const std::string& path) const {
+  if (!cv::imwrite(path, image_)) throw std::runtime_error("cannot write " + path);
+}
+
+}  // namespace ndtom::eval
