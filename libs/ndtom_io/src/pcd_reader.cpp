@@ -158,7 +158,9 @@ PointCloud parsePcd(const std::string& bytes, const std::string& name) {
                          &requireField(h, "z", name)};
   PointCloud cloud;
   cloud.viewpoint = h.viewpoint;
-  const size_t data_start = size_t(in.tellg());
+  // tellg() is -1 when the header ran to the end of the bytes (no data at all).
+  const std::streamoff header_end = in.tellg();
+  const size_t data_start = header_end < 0 ? bytes.size() : size_t(header_end);
   const size_t available = bytes.size() - data_start;
   const char* data = bytes.data() + data_start;
 
