@@ -1,0 +1,63 @@
+#include "bench_runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+
+#include "process_memory.h"
+
+namespace ndtom::bench {
+
+namespace {
+
+double processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+}  // namespace
+
+RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats, Progress& progress) {
+  using Clock = std::chrono::steady_clock;
+  RunResult r;
+  r.dataset = set.name;
+  r.label = system.label();
+  r.repeats = repeats;
+  r.peak_rss_valid = true;
+  const size_t scans = set.scans.size();
+  double insert_seconds = 0;
+  size_t points_done = 0;
+  for (int rep = 0; rep < repeats; ++rep) {
+    r.peak_rss_valid &= resetPeakRss();
+    const size_t rss_before = currentRssBytes();
+    system.reset();
+    std::vector<double> times;
+    for (size_t i = 0; i < scans; ++i) {
+      const Scan& scan = set.scans[i];
+      system.prepareScan(scan);
+      const double cpu_start = processCpuSeconds();
+      const auto start = Clock::now();
+      system.insertScan(scan);
+      const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      r.scan_cpu_seconds.push_back(processCpuSeconds() - cpu_start);
+      times.push_back(seconds);
+      if (rep == 0) {
+        r.points += scan.points.size();
+        r.voxel_visits += system.lastScanVisits(scan);
+      }
+      insert_seconds += seconds;
+      points_done += scan.points.size();
+      progress.update(rep * scans + i + 1, insert_seconds, points_done);
+    }
+    const size_t peak = peakRssBytes();
+    r.peak_rss_delta = std::max(r.peak_rss_delta, peak > rss_before ? peak - rss_before : 0);
+    r.repeat_median_seconds.push_back(quantile(times, 0.5));
+    r.scan_seconds.insert(r.scan_seconds.end(), times.begin(), times.end());
+  }
+  r.map = system.mapSize();
+  progress.finishRun();
+  return r;
+}
+
+}  // namespace ndtom::bench

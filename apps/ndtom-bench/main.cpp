@@ -1,0 +1,199 @@
+// ndtom-bench: replays the same scans into NDT-OM (both ray modes, one and more threads),
+// OctoMap and MRPT's COccupancyGridMap3D in one process, and reports times, rates, memory,
+// cell counts, ratios measured in this run, and the project's targets. See --help.
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <stdexcept>
+
+#include "bench_options.h"
+#include "bench_runner.h"
+#include "machine_info.h"
+#include "map_comparison.h"
+#include "mrpt_grid_system.h"
+#include "ndtom_system.h"
+#include "octomap_system.h"
+#include "report.h"
+#include "synthetic_scans.h"
+#include "targets.h"
+#include "time_plot.h"
+
+using namespace ndtom;
+using namespace ndtom::bench;
+
+namespace {
+
+constexpr int kDefaultSyntheticScans = 60;
+constexpr double kMaxGridBytes = 8e9;  // the dense grid is refused beyond this
+
+/// One system to run: a kind, and the thread count for NDT-OM.
+struct PlannedRun {
+  SystemKind kind;
+  int threads;
+};
+
+std::vector<PlannedRun> planRuns(const BenchOptions& o, const std::vector<int>& threads) {
+  std::vector<PlannedRun> plan;
+  for (SystemKind kind : o.systems) {
+    if (!isNdtom(kind)) {
+      plan.push_back({kind, 1});
+      continue;
+    }
+    for (int t : threads) plan.push_back({kind, t});
+  }
+  return plan;
+}
+
+std::unique_ptr<MappingSystem> makeSystem(const PlannedRun& run, double resolution,
+                                          double max_range, const Box& bounds) {
+  switch (run.kind) {
+    case SystemKind::NdtomPerPoint:
+      return std::make_unique<NdtomSystem>(resolution, max_range, RayMode::PerPoint, run.threads);
+    case SystemKind::NdtomPerHitCell:
+      return std::make_unique<NdtomSystem>(resolution, max_range, RayMode::PerHitCell, run.threads);
+    case SystemKind::Octomap:
+      return std::make_unique<OctomapSystem>(resolution, max_range);
+    case SystemKind::MrptGrid3d:
+      return std::make_unique<MrptGridSystem>(resolution, max_range, bounds);
+  }
+  throw std::logic_error("unknown system");
+}
+
+/// Fills vs_exact / vs_one_thread of the NDT-OM speed-ups of one dataset and resolution.
+void compareNdtomMaps(std::vector<RunResult>& runs, size_t first,
+                      const std::map<std::string, std::unique_ptr<NdtMap>>& maps) {
+  const auto find = [&](const std::string& label) {
+    const auto it = maps.find(label);
+    return it == maps.end() ? nullptr : it->second.get();
+  };
+  const NdtMap* exact = find("ndtom-point/t1");
+  for (size_t i = first; i < runs.size(); ++i) {
+    RunResult& r = runs[i];
+    const NdtMap* map = find(r.label);
+    if (!map) continue;
+    if (exact && r.label != "ndtom-point/t1")
+      r.vs_exact = compareMaps("ndtom-point/t1", *exact, *map);
+    const std::string one = r.label.substr(0, r.label.find('/')) + "/t1";
+    if (r.threads > 1)
+      if (const NdtMap* single = find(one)) r.vs_one_thread = compareMaps(one, *single, *map);
+  }
+}
+
+void checkGridSize(const BenchOptions& o, const ScanSet& set, const Box& bounds) {
+  for (SystemKind kind : o.systems) {
+    if (kind != SystemKind::MrptGrid3d) continue;
+    const double r = *std::min_element(o.resolutions.begin(), o.resolutions.end());
+    const Eigen::Vector3d extent = (bounds.max - bounds.min).array() / r + 3;
+    const double bytes = extent.prod();
+    if (bytes > kMaxGridBytes)
+      throw std::runtime_error("mrpt-grid3d at " + std::to_string(r) + " m needs a " +
+                               std::to_string(bytes / 1e9) + " GB dense grid for " + set.name +
+                               "; use a coarser resolution or leave it out of --systems");
+  }
+}
+
+void runDataset(const ScanSet& set, const BenchOptions& o, const std::vector<PlannedRun>& plan,
+                Progress& progress, int& run_index, int total_runs, std::vector<RunResult>& runs) {
+  const Box bounds = rayBounds(set, o.max_range);
+  checkGridSize(o, set, bounds);
+  for (double resolution : o.resolutions) {
+    const size_t first = runs.size();
+    std::map<std::string, std::unique_ptr<NdtMap>> ndt_maps;  // kept for the comparisons
+    for (const PlannedRun& p : plan) {
+      std::unique_ptr<MappingSystem> system = makeSystem(p, resolution, o.max_range, bounds);
+      char title[160];
+      std::snprintf(title, sizeof title, "%s %.2f m %s", set.name.c_str(), resolution,
+                    system->label().c_str());
+      progress.startRun(title, ++run_index, total_runs, set.scans.size() * size_t(o.repeats));
+      RunResult r = runSystem(*system, set, o.repeats, progress);
+      r.kind = p.kind;
+      r.threads = p.threads;
+      r.resolution = resolution;
+      if (auto* ndt = dynamic_cast<NdtomSystem*>(system.get()))
+        ndt_maps[r.label] = ndt->releaseMap();
+      runs.push_back(std::move(r));
+    }
+    compareNdtomMaps(runs, first, ndt_maps);
+  }
+}
+
+ScanSet loadDataset(const std::string& name, int max_scans) {
+  if (name == kSyntheticDataset)
+    return generateSyntheticScans(max_scans > 0 ? max_scans : kDefaultSyntheticScans);
+  return loadScanDirectory(name, max_scans);
+}
+
+void printReport(const BenchOptions& o, const std::vector<ScanSet>& sets,
+                 const std::vector<RunResult>& runs) {
+  std::cout << "## ndtom-bench results\n\nCPU: " << cpuDescription()
+            << "\nBuild: " << buildDescription() << "\nMax range: " << o.max_range
+            << " m, repeats: " << o.repeats << ", insertion only (timed per scan)\n";
+  for (const ScanSet& s : sets) {
+    const Box box = rayBounds(s, o.max_range);
+    const Eigen::Vector3d extent = box.max - box.min;
+    std::printf(
+        "Dataset %s: %zu scans, %zu points (%zu invalid dropped), rays within a box of "
+        "%.1f x %.1f x %.1f m (the dense grid's extent)\n",
+        s.name.c_str(), s.scans.size(), s.totalPoints(), s.dropped_points, extent.x(), extent.y(),
+        extent.z());
+  }
+
+  std::cout << "\n" << resultsTable(runs) << "\n" << comparisonTable(runs) << "\nTargets:\n";
+  for (const ScanSet& s : sets)
+    for (const std::string& line : checkTargets(runs, s.name))
+      std::cout << "  [" << s.name << "] " << line << "\n";
+}
+
+int run(const BenchOptions& o) {
+  std::vector<int> threads = o.threads;
+  if (threads.empty()) threads = kCoreHasThreads ? std::vector<int>{1, 2} : std::vector<int>{1};
+  if (!kCoreHasThreads)
+    for (int t : threads)
+      if (t != 1) throw std::runtime_error("--threads: this core has no threaded insertion");
+
+  std::vector<ScanSet> sets;
+  for (const std::string& d : o.datasets) {
+    sets.push_back(loadDataset(d, o.max_scans));
+    for (size_t i = 0; i + 1 < sets.size(); ++i)
+      if (sets[i].name == sets.back().name)
+        throw std::runtime_error("--dataset " + d + ": a dataset named " + sets.back().name +
+                                 " is already given");
+  }
+  const std::vector<PlannedRun> plan = planRuns(o, threads);
+  const int total_runs = int(sets.size() * o.resolutions.size() * plan.size());
+  Progress progress(!o.quiet);
+  std::vector<RunResult> runs;
+  int run_index = 0;
+  for (const ScanSet& set : sets) runDataset(set, o, plan, progress, run_index, total_runs, runs);
+
+  printReport(o, sets, runs);
+  if (!o.csv_path.empty()) writeCsv(o.csv_path, runs);
+  if (!o.plot_prefix.empty())
+    for (const ScanSet& s : sets)
+      writeTimePlot(o.plot_prefix + "_" + s.name + ".png", runs, s.name);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  BenchOptions options;
+  try {
+    options = parseArguments(argc, argv);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "ndtom-bench: %s\n", e.what());
+    return 2;
+  }
+  if (options.help) {
+    std::cout << helpText(argv[0]);
+    return 0;
+  }
+  try {
+    return run(options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ndtom-bench: %s\n", e.what());
+    return 1;
+  }
+}

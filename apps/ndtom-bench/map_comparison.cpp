@@ -1,0 +1,61 @@
+#include "map_comparison.h"
+
+#include "ndtom/map_io.h"
+#include "ndtom/ndt_map.h"
+
+// The core's map similarity arrived after this harness: use it when it is there, so the
+// harness also builds (and measures) the cores from before it.
+#if __has_include("ndtom/map_similarity.h")
+#include "ndtom/map_similarity.h"
+#define NDTOM_BENCH_HAS_SIMILARITY 1
+#endif
+
+namespace ndtom::bench {
+
+namespace {
+
+bool occupied(const std::optional<CellView>& c) {
+  return c && c->logodds > 0;
+}
+
+/// Mean-L2 similarity of `test` to `reference` (design.md), or empty with a core that has
+/// no map_similarity.h: the targets then fall back to the Gaussian counts and the occupancy
+/// mismatch.
+std::optional<double> similarityOf(const NdtMap& reference, const NdtMap& test) {
+#ifdef NDTOM_BENCH_HAS_SIMILARITY
+  return mapSimilarity(gaussianSetOf(test), gaussianSetOf(reference));
+#else
+  (void)reference;
+  (void)test;
+  return std::nullopt;
+#endif
+}
+
+}  // namespace
+
+MapComparison compareMaps(const std::string& reference_label, const NdtMap& reference,
+                          const NdtMap& test) {
+  MapComparison c;
+  c.reference = reference_label;
+  c.identical = encodeMap(reference) == encodeMap(test);
+  c.gaussians_reference = reference.numGaussians();
+  c.gaussians_test = test.numGaussians();
+  c.cells_reference = reference.numCells();
+  c.cells_test = test.numCells();
+
+  size_t union_cells = 0, mismatched = 0;
+  reference.forEachCell([&](const CellView& r) {
+    ++union_cells;
+    mismatched += (r.logodds > 0) != occupied(test.cell(r.index));
+  });
+  test.forEachCell([&](const CellView& t) {
+    if (reference.cell(t.index)) return;  // counted above
+    ++union_cells;
+    mismatched += t.logodds > 0;
+  });
+  c.occupancy_mismatch = union_cells > 0 ? double(mismatched) / double(union_cells) : 0;
+  c.similarity = similarityOf(reference, test);
+  return c;
+}
+
+}  // namespace ndtom::bench

@@ -1,0 +1,46 @@
+// NDT-OM under test: NdtMap::insertScan with the chosen ray mode and thread count.
+#pragma once
+
+#include <memory>
+#include <type_traits>
+#include <utility>
+
+#include "mapping_system.h"
+#include "ndtom/ndt_map.h"
+
+namespace ndtom::bench {
+
+/// True when the core's InsertOptions has the `threads` field (multi-threaded insertion).
+/// Detected at compile time so the harness builds against the core before and after it.
+template <class T, class = void>
+struct HasThreadsField : std::false_type {};
+template <class T>
+struct HasThreadsField<T, std::void_t<decltype(std::declval<T&>().threads = 1)>> : std::true_type {
+};
+inline constexpr bool kCoreHasThreads = HasThreadsField<InsertOptions>::value;
+
+class NdtomSystem : public MappingSystem {
+ public:
+  /// Throws std::invalid_argument if threads > 1 and the core has no threaded insertion.
+  NdtomSystem(double resolution, double max_range, RayMode mode, int threads);
+
+  std::string label() const override;
+  void reset() override;
+  void insertScan(const Scan& scan) override;
+  uint64_t lastScanVisits(const Scan&) override { return last_report_.voxel_visits; }
+  MapSize mapSize() const override;
+
+  const NdtMap& map() const { return *map_; }
+  RayMode rayMode() const { return options_.insertion.ray_mode; }
+  int threads() const { return threads_; }
+  /// Hands the map over (the runner keeps reference maps for comparisons).
+  std::unique_ptr<NdtMap> releaseMap() { return std::move(map_); }
+
+ private:
+  MapOptions options_;
+  int threads_;
+  std::unique_ptr<NdtMap> map_;
+  InsertionReport last_report_;
+};
+
+}  // namespace ndtom::bench

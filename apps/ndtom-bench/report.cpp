@@ -1,0 +1,107 @@
+#include "report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+namespace ndtom::bench {
+
+namespace {
+
+constexpr const char* kOctomap = "octomap";
+constexpr const char* kGrid3d = "mrpt-grid3d";
+
+std::string format(const char* fmt, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  return buf;
+}
+
+std::string ratioText(const std::optional<double>& r) {
+  return r ? format("%.3f", *r) : "-";
+}
+
+std::string mismatchText(const std::optional<MapComparison>& c) {
+  return c ? format("%.4f", c->occupancy_mismatch) : "";
+}
+
+}  // namespace
+
+std::optional<double> timeRatio(const std::vector<RunResult>& runs, const RunResult& run,
+                                const std::string& other_label) {
+  const RunResult* other = findRun(runs, run.dataset, run.resolution, other_label);
+  if (!other || other->medianSeconds() <= 0) return std::nullopt;
+  return run.medianSeconds() / other->medianSeconds();
+}
+
+std::string resultsTable(const std::vector<RunResult>& runs) {
+  std::string out =
+      "| dataset | system | res (m) | median ms/scan | p95 ms/scan | Mpoints/s | Mvisits/s | "
+      "CPU/wall | peak RSS Δ (MB) | map (MB) | B/cell | cells | t/t_octomap | t/t_grid3d |\n"
+      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const RunResult& r : runs) {
+    out += "| " + r.dataset + " | " + r.label + " | " + format("%.2f", r.resolution) + " | " +
+           format("%.2f", r.medianSeconds() * 1e3) + " | " + format("%.2f", r.p95Seconds() * 1e3) +
+           " | " + format("%.2f", r.pointsPerSecond() * 1e-6) + " | " +
+           format("%.1f", r.visitsPerSecond() * 1e-6) + " | " + format("%.2f", r.cpuPerWall()) +
+           " | " + (r.peak_rss_valid ? format("%.1f", double(r.peak_rss_delta) / 1e6) : "n/a") +
+           " | " + format("%.1f", double(r.map.memory_bytes) / 1e6) + " | " +
+           format("%.1f", r.bytesPerCell()) + " | " + std::to_string(r.map.cells) + " | " +
+           ratioText(timeRatio(runs, r, kOctomap)) + " | " +
+           ratioText(timeRatio(runs, r, kGrid3d)) + " |\n";
+  }
+  return out;
+}
+
+std::string comparisonTable(const std::vector<RunResult>& runs) {
+  std::string out =
+      "| dataset | system | res (m) | identical to /t1 | Gaussians (exact → this) | "
+      "occupancy mismatch vs exact | similarity vs exact |\n"
+      "|---|---|---:|---|---|---:|---:|\n";
+  for (const RunResult& r : runs) {
+    if (!r.vs_exact && !r.vs_one_thread) continue;
+    const std::string identical =
+        r.vs_one_thread ? (r.vs_one_thread->identical ? "yes" : "NO") : "-";
+    std::string gaussians = "-", mismatch = "-", similarity = "-";
+    if (r.vs_exact) {
+      gaussians = std::to_string(r.vs_exact->gaussians_reference) + " → " +
+                  std::to_string(r.vs_exact->gaussians_test);
+      mismatch = format("%.2f %%", 100 * r.vs_exact->occupancy_mismatch);
+      similarity =
+          r.vs_exact->similarity ? format("%.4f", *r.vs_exact->similarity) : "n/a (not in core)";
+    }
+    out += "| " + r.dataset + " | " + r.label + " | " + format("%.2f", r.resolution) + " | " +
+           identical + " | " + gaussians + " | " + mismatch + " | " + similarity + " |\n";
+  }
+  return out;
+}
+
+void writeCsv(const std::string& path, const std::vector<RunResult>& runs) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("--csv " + path + ": cannot open for writing");
+  out << "dataset,system,threads,resolution_m,scans,repeats,median_ms,p95_ms,points_per_s,"
+         "voxel_visits_per_s,points,voxel_visits,peak_rss_delta_bytes,memory_bytes,cells,"
+         "bytes_per_cell,ratio_octomap,ratio_grid3d,repeat_median_min_ms,repeat_median_max_ms,"
+         "identical_to_t1,gaussians,occupancy_mismatch_vs_exact,similarity_vs_exact,cpu_per_wall\n";
+  for (const RunResult& r : runs) {
+    const auto [lo, hi] =
+        std::minmax_element(r.repeat_median_seconds.begin(), r.repeat_median_seconds.end());
+    const auto o = timeRatio(runs, r, kOctomap), g = timeRatio(runs, r, kGrid3d);
+    out << r.dataset << ',' << r.label << ',' << r.threads << ',' << r.resolution << ','
+        << r.scan_seconds.size() / size_t(std::max(1, r.repeats)) << ',' << r.repeats << ','
+        << r.medianSeconds() * 1e3 << ',' << r.p95Seconds() * 1e3 << ',' << r.pointsPerSecond()
+        << ',' << r.visitsPerSecond() << ',' << r.points << ',' << r.voxel_visits << ','
+        << (r.peak_rss_valid ? std::to_string(r.peak_rss_delta) : "") << ',' << r.map.memory_bytes
+        << ',' << r.map.cells << ',' << r.bytesPerCell() << ',' << (o ? std::to_string(*o) : "")
+        << ',' << (g ? std::to_string(*g) : "") << ',' << *lo * 1e3 << ',' << *hi * 1e3 << ','
+        << (r.vs_one_thread ? (r.vs_one_thread->identical ? "1" : "0") : "") << ','
+        << (r.vs_exact ? std::to_string(r.vs_exact->gaussians_test) : "") << ','
+        << mismatchText(r.vs_exact) << ','
+        << (r.vs_exact && r.vs_exact->similarity ? std::to_string(*r.vs_exact->similarity) : "")
+        << ',' << r.cpuPerWall() << '\n';
+  }
+  if (!out) throw std::runtime_error("--csv " + path + ": write failed");
+}
+
+}  // namespace ndtom::bench

@@ -1,0 +1,53 @@
+// What one system did on one dataset at one resolution, and the figures derived from it.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bench_options.h"
+#include "map_comparison.h"
+#include "mapping_system.h"
+
+namespace ndtom::bench {
+
+struct RunResult {
+  std::string dataset;
+  std::string label;  ///< system label, e.g. "ndtom-point/t1"
+  SystemKind kind = SystemKind::NdtomPerPoint;
+  int threads = 1;
+  double resolution = 0;                      ///< m
+  int repeats = 0;                            ///< full runs pooled in scan_seconds
+  std::vector<double> scan_seconds;           ///< insertion time of every scan of every repeat
+  std::vector<double> scan_cpu_seconds;       ///< process CPU time of the same insertions
+  std::vector<double> repeat_median_seconds;  ///< one per repeat: the run-to-run noise
+  uint64_t points = 0;                        ///< points given per repeat (sum over scans)
+  uint64_t voxel_visits = 0;                  ///< free-space voxel visits per repeat
+  MapSize map;                                ///< after the last repeat
+  size_t peak_rss_delta = 0;                  ///< largest VmHWM increase over a repeat (bytes)
+  bool peak_rss_valid = false;
+  /// NDT-OM speed-ups only: against the plain exact path (ndtom-point/t1) ...
+  std::optional<MapComparison> vs_exact;
+  /// ... and, for threads > 1, against the same ray mode on one thread (must be identical).
+  std::optional<MapComparison> vs_one_thread;
+
+  double medianSeconds() const;
+  double p95Seconds() const;
+  double totalSeconds() const;
+  /// Process CPU time over wall time of the insertions: ~1 for one thread on an idle core,
+  /// below 1 when other processes took the core, ~threads when threads run in parallel.
+  double cpuPerWall() const;
+  double pointsPerSecond() const;
+  double visitsPerSecond() const;
+  double bytesPerCell() const;
+};
+
+/// q-quantile (0..1) by linear interpolation between order statistics; 0 for no samples.
+double quantile(std::vector<double> samples, double q);
+
+/// The run of `label` on `dataset` at `resolution`, or nullptr.
+const RunResult* findRun(const std::vector<RunResult>& runs, const std::string& dataset,
+                         double resolution, const std::string& label);
+
+}  // namespace ndtom::bench

@@ -1,0 +1,116 @@
+#include "targets.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "report.h"
+
+namespace ndtom::bench {
+
+namespace {
+
+std::string verdict(bool pass) {
+  return pass ? "PASS " : "FAIL ";
+}
+
+std::string printf1(const char* fmt, double a, double b = 0, double c = 0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c);
+  return buf;
+}
+
+std::vector<const RunResult*> runsOf(const std::vector<RunResult>& runs, const std::string& ds) {
+  std::vector<const RunResult*> out;
+  for (const RunResult& r : runs)
+    if (r.dataset == ds) out.push_back(&r);
+  return out;
+}
+
+std::string speedTarget(const std::vector<RunResult>& runs, const std::string& ds) {
+  const std::string name = "time at 0.2 m <= 0.1 x OctoMap and <= 1.5 x COccupancyGridMap3D";
+  std::string detail, passing;
+  for (const char* mode : {"ndtom-point/t1", "ndtom-hitcell/t1"}) {
+    const RunResult* r = findRun(runs, ds, kTargetResolution, mode);
+    if (!r) continue;
+    const auto o = timeRatio(runs, *r, "octomap"), g = timeRatio(runs, *r, "mrpt-grid3d");
+    if (!o || !g) return "SKIP " + name + ": needs octomap and mrpt-grid3d at 0.2 m";
+    detail += std::string(detail.empty() ? "" : "; ") + mode +
+              printf1(" %.2f ms = %.3f x OctoMap, %.2f x grid", r->medianSeconds() * 1e3, *o, *g);
+    if (*o <= kMaxTimeVsOctomap && *g <= kMaxTimeVsGrid3d)
+      passing += std::string(passing.empty() ? "" : ", ") + mode;
+  }
+  if (detail.empty()) return "SKIP " + name + ": no single-thread NDT-OM run at 0.2 m";
+  return verdict(!passing.empty()) + name + ": " + detail +
+         (passing.empty() ? "" : " (met by " + passing + ")");
+}
+
+std::string memoryTarget(const std::vector<const RunResult*>& runs) {
+  const std::string name = "memory <= 64 B per touched cell (NdtMap::memoryBytes / numCells)";
+  const RunResult* worst = nullptr;
+  for (const RunResult* r : runs)
+    if (isNdtom(r->kind) && (!worst || r->bytesPerCell() > worst->bytesPerCell())) worst = r;
+  if (!worst) return "SKIP " + name + ": no NDT-OM run";
+  return verdict(worst->bytesPerCell() <= kMaxBytesPerCell) + name + ": worst " +
+         printf1("%.1f B/cell", worst->bytesPerCell()) + " (" + worst->label +
+         printf1(" at %.2f m)", worst->resolution);
+}
+
+std::string threadTarget(const std::vector<RunResult>& runs,
+                         const std::vector<const RunResult*>& ds_runs) {
+  const std::string name = "2 threads >= 1.6 x one thread's rate, identical map";
+  std::string detail;
+  bool pass = true, any = false;
+  for (const RunResult* r : ds_runs) {
+    if (!isNdtom(r->kind) || r->threads != 2 || !r->vs_one_thread) continue;
+    const std::string base = r->label.substr(0, r->label.find('/')) + "/t1";
+    const RunResult* one = findRun(runs, r->dataset, r->resolution, base);
+    if (!one) continue;
+    const double speedup = one->totalSeconds() / r->totalSeconds();
+    pass &= speedup >= kMinTwoThreadSpeedup && r->vs_one_thread->identical;
+    any = true;
+    detail += std::string(detail.empty() ? "" : "; ") + r->label +
+              printf1(" %.2f m: %.2fx", r->resolution, speedup) +
+              (r->vs_one_thread->identical ? " identical" : " MAP DIFFERS");
+  }
+  if (!any) return "SKIP " + name + ": no 2-thread NDT-OM run (see --threads)";
+  return verdict(pass) + name + ": " + detail;
+}
+
+std::string similarityTarget(const std::vector<const RunResult*>& runs) {
+  const std::string name = "every speed-up keeps the map: similarity >= 0.99 to the exact path";
+  std::string detail;
+  bool pass = true, any = false, pending = false;
+  for (const RunResult* r : runs) {
+    if (!r->vs_exact) continue;
+    any = true;
+    const MapComparison& c = *r->vs_exact;
+    if (c.similarity) {
+      pass &= *c.similarity >= kMinSimilarity;
+      detail += std::string(detail.empty() ? "" : "; ") + r->label +
+                printf1(" %.2f m: %.4f", r->resolution, *c.similarity);
+    } else {
+      pending = true;
+      detail += std::string(detail.empty() ? "" : "; ") + r->label +
+                printf1(" %.2f m: Gaussians %+.2f %%, occupancy differs in %.2f %% of cells",
+                        r->resolution,
+                        100.0 * (double(c.gaussians_test) - double(c.gaussians_reference)) /
+                            double(std::max<size_t>(1, c.gaussians_reference)),
+                        100.0 * c.occupancy_mismatch);
+    }
+  }
+  if (!any) return "SKIP " + name + ": needs ndtom-point/t1 and a faster variant";
+  if (pending)
+    return "SKIP " + name + ": the core has no similarity function yet; fallback: " + detail;
+  return verdict(pass) + name + ": " + detail;
+}
+
+}  // namespace
+
+std::vector<std::string> checkTargets(const std::vector<RunResult>& runs,
+                                      const std::string& dataset) {
+  const std::vector<const RunResult*> ds_runs = runsOf(runs, dataset);
+  return {speedTarget(runs, dataset), memoryTarget(ds_runs), threadTarget(runs, ds_runs),
+          similarityTarget(ds_runs)};
+}
+
+}  // namespace ndtom::bench

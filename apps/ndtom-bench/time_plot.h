@@ -1,0 +1,17 @@
+// The paper's Fig. 5 for our systems: median time per scan (bar up to p95) against the
+// resolution, log-log, one line per system, drawn with OpenCV into a PNG.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "run_result.h"
+
+namespace ndtom::bench {
+
+/// Plots the runs of `dataset`; throws std::runtime_error naming the file if it cannot be
+/// written.
+void writeTimePlot(const std::string& path, const std::vector<RunResult>& runs,
+                   const std::string& dataset);
+
+}  // namespace ndtom::bench

@@ -1,0 +1,23 @@
+// Real scans for the micro-benchmarks: the lidar subset shipped in tests/data (every 2nd
+// point), or another folder of fullN.pcd + poses.txt named by $NDTOM_MICROBENCH_DATA.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "ndtom/ndt_map.h"
+
+namespace ndtom::microbench {
+
+struct WorldScan {
+  Eigen::Vector3d origin;
+  std::vector<Eigen::Vector3d> points;  ///< world frame
+};
+
+/// Scans 0 .. count-1, loaded once and cached. Throws std::runtime_error on bad data.
+const std::vector<WorldScan>& realScans(size_t count);
+
+/// Map options of the benchmarks: `resolution` (m), 30 m max range as in doc/benchmarks.md.
+MapOptions benchOptions(double resolution, RayMode mode);
+
+}  // namespace ndtom::microbench
