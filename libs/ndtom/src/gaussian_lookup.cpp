@@ -1,0 +1,53 @@
+#include "ndtom/gaussian_lookup.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+
+namespace ndtom {
+namespace {
+
+// Options may disable regularisation altogether; an exactly singular covariance (three
+// collinear points) still needs an inverse, so eigenvalues never go below this (1 µm σ).
+constexpr double kMinEigenvalue = 1e-12;  // m²
+
+PreparedGaussian prepare(const Gaussian& g) {
+  PreparedGaussian p;
+  p.cell = g.cell;
+  p.n = g.n;
+  p.mean = g.mean;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(g.covariance);
+  Eigen::Vector3d lambda = eig.eigenvalues().cwiseMax(kMinEigenvalue);  // ascending
+  const Eigen::Matrix3d& v = eig.eigenvectors();
+  p.information = v * lambda.cwiseInverse().asDiagonal() * v.transpose();
+  p.projection = v * (lambda[0] * lambda.cwiseInverse()).asDiagonal() * v.transpose();
+  return p;
+}
+
+}  // namespace
+
+GaussianLookup::GaussianLookup(const NdtMap& map) : geometry_(map.geometry()) {
+  map.forEachGaussian([&](const Gaussian& g) { gaussians_.push_back(prepare(g)); },
+                      /*regularized=*/true);
+  std::sort(gaussians_.begin(), gaussians_.end(),
+            [](const PreparedGaussian& a, const PreparedGaussian& b) { return a.cell < b.cell; });
+  by_cell_.reserve(gaussians_.size());
+  std::vector<Eigen::Vector3d> means;
+  means.reserve(gaussians_.size());
+  for (uint32_t i = 0; i < gaussians_.size(); ++i) {
+    by_cell_.emplace(gaussians_[i].cell, i);
+    means.push_back(gaussians_[i].mean);
+  }
+  means_ = PointKdTree(means);
+}
+
+const PreparedGaussian* GaussianLookup::find(const CellIndex& cell) const {
+  const auto it = by_cell_.find(cell);
+  return it == by_cell_.end() ? nullptr : &gaussians_[it->second];
+}
+
+const PreparedGaussian* GaussianLookup::findAt(const Eigen::Vector3d& point) const {
+  if (!geometry_.inRange(point)) return nullptr;
+  return find(geometry_.cellOf(point));
+}
+
+}  // namespace ndtom

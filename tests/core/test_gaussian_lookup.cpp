@@ -1,0 +1,107 @@
+// GaussianLookup: the same Gaussians as the map, with inverses and projections checked
+// against a direct matrix inverse (not the eigen decomposition the lookup uses).
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
+#include "ndtom/gaussian_lookup.h"
+#include "synthetic_room.h"
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using ndtom::GaussianLookup;
+using ndtom::NdtMap;
+
+namespace {
+
+NdtMap roomMap(double resolution) {
+  ndtom::MapOptions options;
+  options.resolution = resolution;
+  NdtMap map(options);
+  map.insertScan(ndtom::testing::sampleRoom(40000, 1), ndtom::testing::kRoomSensor);
+  return map;
+}
+
+}  // namespace
+
+TEST(GaussianLookup, HoldsEveryGaussianOfTheMapInCellOrder) {
+  const NdtMap map = roomMap(0.5);
+  const GaussianLookup lookup(map);
+  ASSERT_GT(lookup.size(), 100u);
+  EXPECT_EQ(lookup.size(), map.numGaussians());
+  for (size_t i = 1; i < lookup.size(); ++i)
+    EXPECT_TRUE(lookup.gaussians()[i - 1].cell < lookup.gaussians()[i].cell);
+  EXPECT_EQ(lookup.means().size(), lookup.size());
+
+  for (const auto& g : lookup.gaussians()) {
+    const auto expected = map.gaussian(g.cell, /*regularized=*/true);
+    ASSERT_TRUE(expected.has_value());
+    EXPECT_EQ(g.n, expected->n);
+    EXPECT_EQ(g.mean, expected->mean);
+    EXPECT_EQ(lookup.find(g.cell), &g);
+    EXPECT_EQ(lookup.findAt(g.mean), &g) << "a cell's mean lies inside the cell";
+
+    const Matrix3d inverse = expected->covariance.inverse();
+    EXPECT_LT((g.information - inverse).norm(), 1e-9 * inverse.norm());
+    const double lambda_min =
+        expected->covariance.selfadjointView<Eigen::Lower>().eigenvalues().minCoeff();
+    const Matrix3d projection = lambda_min * inverse;
+    EXPECT_LT((g.projection - projection).norm(), 1e-9);
+  }
+}
+
+TEST(GaussianLookup, CellsWithoutGaussianAreNotFound) {
+  const NdtMap map = roomMap(0.5);
+  const GaussianLookup lookup(map);
+  size_t checked = 0;
+  map.forEachCell([&](const ndtom::CellView& c) {
+    const bool has = c.stats && c.stats->hasGaussian();
+    EXPECT_EQ(lookup.find(c.index) != nullptr, has);
+    ++checked;
+  });
+  EXPECT_GT(checked, lookup.size()) << "free cells exist too";
+  EXPECT_EQ(lookup.find({100000, 0, 0}), nullptr);
+  EXPECT_EQ(lookup.findAt(Vector3d(std::nan(""), 0, 0)), nullptr);
+  EXPECT_EQ(lookup.findAt(Vector3d(1e300, 0, 0)), nullptr);
+}
+
+TEST(GaussianLookup, ProjectionMovesAPointOntoAPlanarCellsPlane) {
+  // Points on the plane z = 0.05 inside one cell: the projection keeps x, y and sets z.
+  ndtom::MapOptions options;
+  options.resolution = 1.0;
+  NdtMap map(options);
+  std::vector<Vector3d> points;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) points.emplace_back(0.05 + 0.1 * i, 0.05 + 0.1 * j, 0.05);
+  map.insertScan(points, Vector3d(0.5, 0.5, 3.0));
+  const GaussianLookup lookup(map);
+  ASSERT_EQ(lookup.size(), 1u);
+  const auto& g = lookup.gaussians()[0];
+  const Vector3d p(0.3, 0.7, 0.4);
+  const Vector3d foot = p - g.projection * (p - g.mean);
+  EXPECT_NEAR(foot.z(), 0.05, 1e-12);
+  // In-plane offsets shrink by λ_min/λ = the regularisation ratio (0.01 by default).
+  EXPECT_NEAR(foot.x(), p.x() - 0.01 * (p.x() - g.mean.x()), 1e-9);
+  EXPECT_NEAR(foot.y(), p.y() - 0.01 * (p.y() - g.mean.y()), 1e-9);
+}
+
+TEST(GaussianLookup, SingularCovarianceStillHasAFiniteInverse) {
+  // Regularisation switched off and collinear points: the covariance has rank 1.
+  ndtom::MapOptions options;
+  options.resolution = 1.0;
+  options.regularization.min_eigen_ratio = 0;
+  options.regularization.min_eigen_abs = 0;
+  NdtMap map(options);
+  map.insertScan({{0.1, 0.5, 0.5}, {0.5, 0.5, 0.5}, {0.9, 0.5, 0.5}}, Vector3d(0.5, 0.5, 5));
+  const GaussianLookup lookup(map);
+  ASSERT_EQ(lookup.size(), 1u);
+  EXPECT_TRUE(lookup.gaussians()[0].information.allFinite());
+  EXPECT_TRUE(lookup.gaussians()[0].projection.allFinite());
+}
+
+TEST(GaussianLookup, EmptyMap) {
+  const GaussianLookup lookup{NdtMap{}};
+  EXPECT_TRUE(lookup.empty());
+  EXPECT_EQ(lookup.findAt(Vector3d::Zero()), nullptr);
+}
