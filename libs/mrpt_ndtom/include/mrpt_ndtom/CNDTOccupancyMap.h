@@ -1,0 +1,188 @@
+// CNDTOccupancyMap: an NDT Occupancy Map (Saarinen et al., IROS 2013) as an MRPT metric map.
+// A thin adapter: observations become world-frame points plus a sensor origin, and every
+// algorithm runs in the ndtom core.
+//
+// In .ini files (CMultiMetricMap, TSetOfMetricMapInitializers) its short name is
+// `ndtOccupancyMap`:
+//
+//   [MetricMap]
+//   ndtOccupancyMap_count = 1
+//   [MetricMap_ndtOccupancyMap_00_insertOpts]     ; TInsertionOptions
+//   [MetricMap_ndtOccupancyMap_00_likelihoodOpts] ; TLikelihoodOptions
+//   [MetricMap_ndtOccupancyMap_00_creationOpts]   ; enableSaveAs3DObject, ... (all maps)
+//
+// The class is registered when its shared library is loaded (MRPT's plugin flags, LD_PRELOAD,
+// or linking it).
+//
+// Threading: const methods may run concurrently (pf-localization shares one map across
+// threads); the Gaussians prepared for likelihood and matching are built once per map state
+// under a mutex and then shared read-only.
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/maps/CMetricMap.h>
+#include <mrpt/system/COutputLogger.h>
+#include <mrpt/typemeta/TEnumType.h>
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <mutex>
+
+#include "mrpt_ndtom/ndt_visualization.h"
+#include "mrpt_ndtom/observation_points.h"
+#include "ndtom/gaussian_lookup.h"
+#include "ndtom/ndt_map.h"
+
+namespace mrpt_ndtom {
+
+class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COutputLogger {
+  DEFINE_SERIALIZABLE(CNDTOccupancyMap, mrpt_ndtom)
+
+ public:
+  /// An empty map with default options and the given cell edge (m).
+  explicit CNDTOccupancyMap(double resolution = 0.2);
+  CNDTOccupancyMap(const CNDTOccupancyMap& other);
+  CNDTOccupancyMap& operator=(const CNDTOccupancyMap& other);
+  ~CNDTOccupancyMap() override = default;
+
+  /// How observations are inserted (paper Sec. III). Changes apply at the next insertion;
+  /// the resolution can only change while the map is empty.
+  class TInsertionOptions : public mrpt::config::CLoadableOptions {
+   public:
+    /// Throws (naming the section and option) if a loaded value is invalid.
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                            const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                          const std::string& section) const override;
+
+    double resolution{0.2};        ///< Cell edge (Default: 0.2 m)
+    bool occupancy_enabled{true};  ///< false: Recursive NDT, no ray tracing (Default: true)
+    double p_hit{0.6};             ///< p_o of Eq. 12, in (0.5, 1) (Default: 0.6)
+    double p_miss{0.49};           ///< p_e of Eq. 12, in (0, 0.5) (Default: 0.49)
+    double logodds_min{-2.0};      ///< Lower log-odds clamp, < 0 (Default: -2)
+    double logodds_max{3.5};       ///< Upper log-odds clamp, > 0 (Default: 3.5)
+    double min_range{0.0};         ///< Closer points are dropped (Default: 0 m)
+    /// Farther points give a free ray truncated here and no hit (Default: inf, no limit)
+    double max_range{std::numeric_limits<double>::infinity()};
+    ndtom::RayMode ray_mode{ndtom::RayMode::PerPoint};  ///< PerPoint|PerHitCell (Default: PerPoint)
+    uint32_t decimation{1};           ///< Keep 1 point in N of scans and clouds (Default: 1)
+    uint32_t decimation_3d_range{1};  ///< Depth images: every N-th row and column (Default: 1)
+    double min_eigen_ratio{0.01};     ///< Covariance eigenvalue floor / largest (Default: 0.01)
+    double min_eigen_abs{1e-6};       ///< Covariance eigenvalue floor (Default: 1e-6 m²)
+
+    /// The core's options; throws std::invalid_argument naming a bad value.
+    ndtom::MapOptions toMapOptions() const;
+    TPointExtractionOptions extractionOptions() const;
+    void writeToStream(mrpt::serialization::CArchive& out) const;
+    void readFromStream(mrpt::serialization::CArchive& in);
+    bool operator==(const TInsertionOptions& o) const;
+  };
+  TInsertionOptions insertionOptions;
+
+  /// How computeObservationLikelihood() scores an observation (see ndtom/ndt_likelihood.h).
+  class TLikelihoodOptions : public mrpt::config::CLoadableOptions {
+   public:
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                            const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                          const std::string& section) const override;
+
+    uint32_t decimation{10};          ///< Score 1 point in N (Default: 10)
+    uint32_t decimation_3d_range{8};  ///< Depth images: every N-th row and column (Default: 8)
+    double outlier_likelihood{0.05};  ///< A point's likelihood floor, in (0, 1) (Default: 0.05)
+    bool search_neighbours{true};  ///< Best Gaussian of the 27 cells around a point (Default: true)
+    double min_range{0.0};         ///< Closer points are not scored (Default: 0 m)
+    double max_range{std::numeric_limits<double>::infinity()};  ///< (Default: inf)
+    /// Multiplies the summed log-likelihood: < 1 flattens particle weights (Default: 1)
+    double scale{1.0};
+
+    /// Throws std::invalid_argument naming a bad value.
+    void validate() const;
+    void writeToStream(mrpt::serialization::CArchive& out) const;
+    void readFromStream(mrpt::serialization::CArchive& in);
+    bool operator==(const TLikelihoodOptions& o) const;
+  };
+  TLikelihoodOptions likelihoodOptions;
+
+  /// How getVisualizationInto() draws the map.
+  TRenderOptions renderOptions;
+
+  // --- The NDT-OM itself ---------------------------------------------------------------
+
+  /// The core map (its options are those in force at the last insertion).
+  const ndtom::NdtMap& ndtMap() const { return m_map; }
+  /// Replaces the contents, e.g. with a map loaded by ndtom::loadMap(); insertionOptions take
+  /// the map's resolution, occupancy and regularisation options.
+  void setNdtMap(ndtom::NdtMap map);
+  /// Inserts world-frame points seen from `sensor_origin`, with insertionOptions' ranges and
+  /// ray mode. Returns the core's account of every point.
+  ndtom::InsertionReport insertPoints(const std::vector<Eigen::Vector3d>& points_world,
+                                      const Eigen::Vector3d& sensor_origin);
+  /// What the last successful insertion did.
+  const ndtom::InsertionReport& lastInsertionReport() const { return m_last_report; }
+
+  /// A copy `factor` times coarser (paper Sec. III-B): each coarse cell is the exact merge
+  /// of the fine cells inside it. Same likelihood and render options.
+  Ptr getCoarsened(int factor) const;
+
+  /// The prepared Gaussians of the current map state (built on first use, then shared).
+  std::shared_ptr<const ndtom::GaussianLookup> gaussianLookup() const;
+
+  // --- CMetricMap ------------------------------------------------------------------------
+
+  bool isEmpty() const override;
+  std::string asString() const override;
+  /// Writes `<prefix>.ndtom` (the core's file format) and `<prefix>.3Dscene`.
+  void saveMetricMapRepresentationToFile(const std::string& prefix) const override;
+  /// Ellipsoids of the occupied Gaussians (see renderOptions), unless
+  /// genericMapParams.enableSaveAs3DObject is false.
+  void getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const override;
+
+  /// For ICP: pairs each point of `otherMap` (a CPointsMap) with its projection on the best
+  /// nearby Gaussian (see ndtom/ndt_correspondences.h). `global` is that projection in this
+  /// map's frame, `local` the point in the other map's frame, `globalIdx` the Gaussian's index
+  /// in gaussianLookup(). Honours maxDistForCorrespondence, maxAngularDistForCorrespondence,
+  /// decimation_other_map_points and offset_other_map_points.
+  void determineMatching3D(const mrpt::maps::CMetricMap* otherMap,
+                           const mrpt::poses::CPose3D& otherMapPose,
+                           mrpt::tfest::TMatchingPairList& correspondences,
+                           const mrpt::maps::TMatchingParams& params,
+                           mrpt::maps::TMatchingExtraResults& extraResults) const override;
+  /// Fraction of the other map's points within Mahalanobis distance maxMahaDistForCorr of a
+  /// Gaussian; 0 if the other map has no points.
+  float compute3DMatchingRatio(const mrpt::maps::CMetricMap* otherMap,
+                               const mrpt::poses::CPose3D& otherMapPose,
+                               const mrpt::maps::TMatchingRatioParams& params) const override;
+
+ private:
+  void internal_clear() override;
+  bool internal_insertObservation(
+      const mrpt::obs::CObservation& obs,
+      const std::optional<const mrpt::poses::CPose3D>& robotPose = std::nullopt) override;
+  double internal_computeObservationLikelihood(
+      const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const override;
+  bool internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const override;
+
+  /// Brings m_map's options in line with insertionOptions.
+  void applyInsertionOptions();
+  void invalidateLookup();
+
+  ndtom::NdtMap m_map;
+  ndtom::InsertionReport m_last_report;
+  mutable std::mutex m_lookup_mutex;
+  mutable std::shared_ptr<const ndtom::GaussianLookup> m_lookup;  ///< null when stale
+
+  MAP_DEFINITION_START(CNDTOccupancyMap)
+  mrpt_ndtom::CNDTOccupancyMap::TInsertionOptions insertionOpts;
+  mrpt_ndtom::CNDTOccupancyMap::TLikelihoodOptions likelihoodOpts;
+  MAP_DEFINITION_END(CNDTOccupancyMap)
+};
+
+}  // namespace mrpt_ndtom
+
+// Lets .ini files name the ray mode ("PerPoint", "PerHitCell") as well as number it.
+MRPT_ENUM_TYPE_BEGIN(ndtom::RayMode)
+MRPT_FILL_ENUM_MEMBER(ndtom::RayMode, PerPoint);
+MRPT_FILL_ENUM_MEMBER(ndtom::RayMode, PerHitCell);
+MRPT_ENUM_TYPE_END()

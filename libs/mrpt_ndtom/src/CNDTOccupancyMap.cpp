@@ -1,0 +1,228 @@
+// CNDTOccupancyMap: registration, construction, options, serialization.
+#include "mrpt_ndtom/CNDTOccupancyMap.h"
+
+#include <mrpt/core/initializer.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <algorithm>
+
+#include "ndtom/map_io.h"
+
+using mrpt_ndtom::CNDTOccupancyMap;
+
+//  =========== Begin of Map definition ============
+MAP_DEFINITION_REGISTER("mrpt_ndtom::CNDTOccupancyMap,ndtOccupancyMap",
+                        mrpt_ndtom::CNDTOccupancyMap)
+
+CNDTOccupancyMap::TMapDefinition::TMapDefinition() = default;
+
+void CNDTOccupancyMap::TMapDefinition::loadFromConfigFile_map_specific(
+    const mrpt::config::CConfigFileBase& source, const std::string& sectionNamePrefix) {
+  // [<sectionNamePrefix>_creationOpts] holds only genericMapParams, read by the base class.
+  insertionOpts.loadFromConfigFile(source, sectionNamePrefix + "_insertOpts");
+  likelihoodOpts.loadFromConfigFile(source, sectionNamePrefix + "_likelihoodOpts");
+}
+
+void CNDTOccupancyMap::TMapDefinition::dumpToTextStream_map_specific(std::ostream& out) const {
+  insertionOpts.dumpToTextStream(out);
+  likelihoodOpts.dumpToTextStream(out);
+}
+
+mrpt::maps::CMetricMap* CNDTOccupancyMap::internal_CreateFromMapDefinition(
+    const mrpt::maps::TMetricMapInitializer& definition) {
+  const auto& def = dynamic_cast<const CNDTOccupancyMap::TMapDefinition&>(definition);
+  auto* map = new CNDTOccupancyMap(def.insertionOpts.resolution);
+  map->insertionOptions = def.insertionOpts;
+  map->likelihoodOptions = def.likelihoodOpts;
+  map->applyInsertionOptions();
+  return map;
+}
+//  =========== End of Map definition Block =========
+
+IMPLEMENTS_SERIALIZABLE(CNDTOccupancyMap, CMetricMap, mrpt_ndtom)
+
+// Without this, deserialising the class (and so copying a CMultiMetricMap, as rbpf-slam
+// does) fails with "class not registered".
+MRPT_INITIALIZER(registerAllClasses_mrpt_ndtom) {
+  mrpt::rtti::registerClass(CLASS_ID(mrpt_ndtom::CNDTOccupancyMap));
+}
+
+namespace mrpt_ndtom {
+namespace {
+
+bool sameOptions(const ndtom::MapOptions& a, const ndtom::MapOptions& b) {
+  return a.resolution == b.resolution && a.occupancy.enabled == b.occupancy.enabled &&
+         a.occupancy.p_hit == b.occupancy.p_hit && a.occupancy.p_miss == b.occupancy.p_miss &&
+         a.occupancy.logodds_min == b.occupancy.logodds_min &&
+         a.occupancy.logodds_max == b.occupancy.logodds_max &&
+         a.insertion.min_range == b.insertion.min_range &&
+         a.insertion.max_range == b.insertion.max_range &&
+         a.insertion.ray_mode == b.insertion.ray_mode &&
+         a.regularization.min_eigen_ratio == b.regularization.min_eigen_ratio &&
+         a.regularization.min_eigen_abs == b.regularization.min_eigen_abs;
+}
+
+ndtom::MapOptions withResolution(double resolution) {
+  ndtom::MapOptions o;
+  o.resolution = resolution;
+  return o;
+}
+
+}  // namespace
+
+CNDTOccupancyMap::CNDTOccupancyMap(double resolution)
+    : mrpt::system::COutputLogger("CNDTOccupancyMap"), m_map(withResolution(resolution)) {
+  insertionOptions.resolution = resolution;
+}
+
+CNDTOccupancyMap::CNDTOccupancyMap(const CNDTOccupancyMap& other)
+    : mrpt::maps::CMetricMap(other),
+      mrpt::system::COutputLogger(other),
+      insertionOptions(other.insertionOptions),
+      likelihoodOptions(other.likelihoodOptions),
+      renderOptions(other.renderOptions),
+      m_map(other.m_map),
+      m_last_report(other.m_last_report),
+      m_lookup(other.gaussianLookup()) {}  // immutable: safe to share
+
+CNDTOccupancyMap& CNDTOccupancyMap::operator=(const CNDTOccupancyMap& other) {
+  if (this == &other) return *this;
+  mrpt::maps::CMetricMap::operator=(other);
+  mrpt::system::COutputLogger::operator=(other);
+  insertionOptions = other.insertionOptions;
+  likelihoodOptions = other.likelihoodOptions;
+  renderOptions = other.renderOptions;
+  m_map = other.m_map;
+  m_last_report = other.m_last_report;
+  auto lookup = other.gaussianLookup();
+  std::lock_guard<std::mutex> lock(m_lookup_mutex);
+  m_lookup = std::move(lookup);
+  return *this;
+}
+
+std::shared_ptr<const ndtom::GaussianLookup> CNDTOccupancyMap::gaussianLookup() const {
+  std::lock_guard<std::mutex> lock(m_lookup_mutex);
+  if (!m_lookup) m_lookup = std::make_shared<const ndtom::GaussianLookup>(m_map);
+  return m_lookup;
+}
+
+void CNDTOccupancyMap::invalidateLookup() {
+  std::lock_guard<std::mutex> lock(m_lookup_mutex);
+  m_lookup.reset();
+}
+
+void CNDTOccupancyMap::applyInsertionOptions() {
+  ndtom::MapOptions wanted;
+  try {
+    wanted = insertionOptions.toMapOptions();
+  } catch (const std::exception& e) {
+    THROW_EXCEPTION(std::string("CNDTOccupancyMap::insertionOptions: ") + e.what());
+  }
+  if (sameOptions(wanted, m_map.options())) return;
+  if (m_map.isEmpty()) {
+    m_map = ndtom::NdtMap(wanted);
+  } else {
+    if (wanted.resolution != m_map.options().resolution)
+      THROW_EXCEPTION(mrpt::format(
+          "CNDTOccupancyMap: resolution cannot change from %g m to %g m once the map holds "
+          "data; clear() the map first",
+          m_map.options().resolution, wanted.resolution));
+    // Same cells under new occupancy bounds or regularisation: merge into a fresh map.
+    ndtom::NdtMap rebuilt(wanted);
+    rebuilt.merge(m_map);
+    m_map = std::move(rebuilt);
+  }
+  invalidateLookup();
+}
+
+void CNDTOccupancyMap::setNdtMap(ndtom::NdtMap map) {
+  const ndtom::MapOptions& o = map.options();
+  insertionOptions.resolution = o.resolution;
+  insertionOptions.occupancy_enabled = o.occupancy.enabled;
+  insertionOptions.p_hit = o.occupancy.p_hit;
+  insertionOptions.p_miss = o.occupancy.p_miss;
+  insertionOptions.logodds_min = o.occupancy.logodds_min;
+  insertionOptions.logodds_max = o.occupancy.logodds_max;
+  insertionOptions.min_range = o.insertion.min_range;
+  insertionOptions.max_range = o.insertion.max_range;
+  insertionOptions.ray_mode = o.insertion.ray_mode;
+  insertionOptions.min_eigen_ratio = o.regularization.min_eigen_ratio;
+  insertionOptions.min_eigen_abs = o.regularization.min_eigen_abs;
+  m_map = std::move(map);
+  m_last_report = {};
+  invalidateLookup();
+}
+
+CNDTOccupancyMap::Ptr CNDTOccupancyMap::getCoarsened(int factor) const {
+  ASSERTMSG_(factor >= 1, "getCoarsened: factor must be >= 1");
+  auto coarse = std::make_shared<CNDTOccupancyMap>(m_map.options().resolution * factor);
+  coarse->genericMapParams = genericMapParams;
+  coarse->likelihoodOptions = likelihoodOptions;
+  coarse->renderOptions = renderOptions;
+  coarse->setNdtMap(m_map.coarsened(factor));
+  coarse->insertionOptions.decimation = insertionOptions.decimation;
+  coarse->insertionOptions.decimation_3d_range = insertionOptions.decimation_3d_range;
+  return coarse;
+}
+
+bool CNDTOccupancyMap::isEmpty() const {
+  return m_map.isEmpty();
+}
+
+std::string CNDTOccupancyMap::asString() const {
+  return mrpt::format(
+      "NDT-OM map (CNDTOccupancyMap): resolution %g m, %zu cells, %zu Gaussians, %zu occupied, "
+      "%.1f MB",
+      m_map.options().resolution, m_map.numCells(), m_map.numGaussians(), m_map.numOccupied(),
+      m_map.memoryBytes() / 1e6);
+}
+
+void CNDTOccupancyMap::internal_clear() {
+  m_map.clear();  // options follow insertionOptions again at the next insertion
+  m_last_report = {};
+  invalidateLookup();
+}
+
+// Version 0: insertion, likelihood and render options, genericMapParams, then the map in
+// the core's file format (versioned and checksummed on its own).
+uint8_t CNDTOccupancyMap::serializeGetVersion() const {
+  return 0;
+}
+
+void CNDTOccupancyMap::serializeTo(mrpt::serialization::CArchive& out) const {
+  insertionOptions.writeToStream(out);
+  likelihoodOptions.writeToStream(out);
+  renderOptions.writeToStream(out);
+  out << genericMapParams;
+  const std::vector<uint8_t> bytes = ndtom::encodeMap(m_map);
+  out << uint64_t(bytes.size());
+  out.WriteBuffer(bytes.data(), bytes.size());
+}
+
+void CNDTOccupancyMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
+  switch (version) {
+    case 0: {
+      insertionOptions.readFromStream(in);
+      likelihoodOptions.readFromStream(in);
+      renderOptions.readFromStream(in);
+      in >> genericMapParams;
+      uint64_t size = 0;
+      in >> size;
+      // In chunks, so that a corrupt size fails at the end of the data, not in malloc.
+      std::vector<uint8_t> bytes;
+      constexpr uint64_t kChunk = uint64_t(1) << 20;
+      while (bytes.size() < size) {
+        const size_t offset = bytes.size();
+        bytes.resize(offset + size_t(std::min(kChunk, size - offset)));
+        in.ReadBuffer(bytes.data() + offset, bytes.size() - offset);
+      }
+      m_map = ndtom::decodeMap(bytes.data(), bytes.size(), "MRPT archive (CNDTOccupancyMap)");
+      m_last_report = {};
+      invalidateLookup();
+    } break;
+    default:
+      MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+  }
+}
+
+}  // namespace mrpt_ndtom

@@ -1,0 +1,102 @@
+// CNDTOccupancyMap: observation likelihood (particle filters) and matching (ICP).
+#include <mrpt/maps/CSimplePointsMap.h>
+
+#include "mrpt_ndtom/CNDTOccupancyMap.h"
+#include "ndtom/ndt_correspondences.h"
+#include "ndtom/ndt_likelihood.h"
+
+namespace mrpt_ndtom {
+namespace {
+
+using Eigen::Vector3d;
+
+const mrpt::maps::CPointsMap* asPointsMap(const mrpt::maps::CMetricMap* map) {
+  if (!map) return nullptr;
+  if (const auto* points = dynamic_cast<const mrpt::maps::CPointsMap*>(map)) return points;
+  return map->getAsSimplePointsMap();  // e.g. a CMultiMetricMap holding one points map
+}
+
+// The other map's points moved into this map's frame by `pose`.
+std::vector<Vector3d> transformedPoints(const mrpt::maps::CPointsMap& points,
+                                        const mrpt::poses::CPose3D& pose) {
+  const Eigen::Isometry3d t = toIsometry(pose);
+  const auto &xs = points.getPointsBufferRef_x(), &ys = points.getPointsBufferRef_y(),
+             &zs = points.getPointsBufferRef_z();
+  std::vector<Vector3d> out(xs.size());
+  for (size_t i = 0; i < xs.size(); ++i) out[i] = t * Vector3d(xs[i], ys[i], zs[i]);
+  return out;
+}
+
+}  // namespace
+
+bool CNDTOccupancyMap::internal_canComputeObservationLikelihood(
+    const mrpt::obs::CObservation& obs) const {
+  return isSupportedObservation(obs);
+}
+
+double CNDTOccupancyMap::internal_computeObservationLikelihood(
+    const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const {
+  const TLikelihoodOptions& o = likelihoodOptions;
+  const auto extracted = observationPoints(
+      obs, takenFrom, TPointExtractionOptions{o.decimation, o.decimation_3d_range});
+  if (!extracted) return 0.0;
+  std::vector<Vector3d> points;
+  points.reserve(extracted->points_world.size());
+  for (const Vector3d& p : extracted->points_world) {
+    const double range = (p - extracted->sensor_origin).norm();
+    if (range >= o.min_range && range <= o.max_range) points.push_back(p);
+  }
+  ndtom::LikelihoodOptions core;
+  core.outlier_likelihood = o.outlier_likelihood;
+  core.search_neighbours = o.search_neighbours;
+  return o.scale * ndtom::scanLikelihood(*gaussianLookup(), points, core).log_likelihood;
+}
+
+void CNDTOccupancyMap::determineMatching3D(const mrpt::maps::CMetricMap* otherMap,
+                                           const mrpt::poses::CPose3D& otherMapPose,
+                                           mrpt::tfest::TMatchingPairList& correspondences,
+                                           const mrpt::maps::TMatchingParams& params,
+                                           mrpt::maps::TMatchingExtraResults& extraResults) const {
+  correspondences.clear();
+  extraResults = mrpt::maps::TMatchingExtraResults();
+  const mrpt::maps::CPointsMap* other = asPointsMap(otherMap);
+  if (!other)
+    THROW_EXCEPTION("CNDTOccupancyMap::determineMatching3D: otherMap must be a CPointsMap");
+
+  ndtom::CorrespondenceOptions co;
+  co.max_distance = params.maxDistForCorrespondence;
+  co.angular_tolerance = params.maxAngularDistForCorrespondence;
+  co.pivot = Vector3d(params.angularDistPivotPoint.x, params.angularDistPivotPoint.y,
+                      params.angularDistPivotPoint.z);
+  co.first = params.offset_other_map_points;
+  co.stride = std::max<size_t>(1, params.decimation_other_map_points);
+  const auto result =
+      ndtom::findCorrespondences(*gaussianLookup(), transformedPoints(*other, otherMapPose), co);
+
+  const auto &xs = other->getPointsBufferRef_x(), &ys = other->getPointsBufferRef_y(),
+             &zs = other->getPointsBufferRef_z();
+  correspondences.reserve(result.pairs.size());
+  for (const auto& pair : result.pairs) {
+    mrpt::tfest::TMatchingPair m;
+    m.globalIdx = pair.gaussian;
+    m.localIdx = pair.point;
+    m.global = {float(pair.target.x()), float(pair.target.y()), float(pair.target.z())};
+    m.local = {xs[pair.point], ys[pair.point], zs[pair.point]};
+    m.errorSquareAfterTransformation = float(pair.squared_distance);
+    extraResults.sumSqrDist += float(pair.squared_distance);
+    correspondences.push_back(m);
+  }
+  if (result.points_considered > 0)
+    extraResults.correspondencesRatio = float(result.pairs.size()) / result.points_considered;
+}
+
+float CNDTOccupancyMap::compute3DMatchingRatio(
+    const mrpt::maps::CMetricMap* otherMap, const mrpt::poses::CPose3D& otherMapPose,
+    const mrpt::maps::TMatchingRatioParams& params) const {
+  const mrpt::maps::CPointsMap* other = asPointsMap(otherMap);
+  if (!other || other->size() == 0) return 0.0f;
+  return float(ndtom::matchingRatio(*gaussianLookup(), transformedPoints(*other, otherMapPose),
+                                    params.maxMahaDistForCorr));
+}
+
+}  // namespace mrpt_ndtom

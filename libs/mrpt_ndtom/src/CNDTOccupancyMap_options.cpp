@@ -1,0 +1,200 @@
+// CNDTOccupancyMap's option structs: .ini loading and saving (MRPT's CLoadableOptions),
+// validation through the core, and binary streaming for serialization.
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "mrpt_ndtom/CNDTOccupancyMap.h"
+#include "ndtom/ndt_likelihood.h"
+
+namespace mrpt_ndtom {
+namespace {
+
+// Decimations are read as signed integers so that "-1" is reported, not wrapped.
+uint32_t readDecimation(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                        const std::string& name, uint32_t current) {
+  const int value = c.read_int(section, name, int(current));
+  if (value < 1)
+    THROW_EXCEPTION(
+        mrpt::format("[%s] %s = %d: must be >= 1", section.c_str(), name.c_str(), value));
+  return uint32_t(value);
+}
+
+// Runs a validation and rethrows its message prefixed with the .ini section.
+template <class F>
+void validateSection(const std::string& section, F&& validate) {
+  try {
+    validate();
+  } catch (const std::invalid_argument& e) {
+    THROW_EXCEPTION(mrpt::format("[%s] %s", section.c_str(), e.what()));
+  }
+}
+
+}  // namespace
+
+// --- TInsertionOptions -------------------------------------------------------------------
+
+void CNDTOccupancyMap::TInsertionOptions::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& source, const std::string& section) {
+  MRPT_LOAD_CONFIG_VAR(resolution, double, source, section);
+  MRPT_LOAD_CONFIG_VAR(occupancy_enabled, bool, source, section);
+  MRPT_LOAD_CONFIG_VAR(p_hit, double, source, section);
+  MRPT_LOAD_CONFIG_VAR(p_miss, double, source, section);
+  MRPT_LOAD_CONFIG_VAR(logodds_min, double, source, section);
+  MRPT_LOAD_CONFIG_VAR(logodds_max, double, source, section);
+  MRPT_LOAD_CONFIG_VAR(min_range, double, source, section);
+  MRPT_LOAD_CONFIG_VAR(max_range, double, source, section);
+  ray_mode = source.read_enum<ndtom::RayMode>(section, "ray_mode", ray_mode);
+  decimation = readDecimation(source, section, "decimation", decimation);
+  decimation_3d_range = readDecimation(source, section, "decimation_3d_range", decimation_3d_range);
+  MRPT_LOAD_CONFIG_VAR(min_eigen_ratio, double, source, section);
+  MRPT_LOAD_CONFIG_VAR(min_eigen_abs, double, source, section);
+  validateSection(section, [this] { toMapOptions(); });
+}
+
+void CNDTOccupancyMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                                           const std::string& s) const {
+  MRPT_SAVE_CONFIG_VAR_COMMENT(resolution, "Cell edge [m]");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(occupancy_enabled,
+                               "Occupancy by ray tracing (Eq. 12); false: Recursive NDT");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(p_hit, "p_o: occupancy of a cell with hits, in (0.5, 1)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(p_miss, "p_e: occupancy of a cell a ray crosses, in (0, 0.5)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(logodds_min, "Lower log-odds clamp (< 0)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(logodds_max, "Upper log-odds clamp (> 0)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Closer points are dropped [m]");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(max_range,
+                               "Farther points: free ray up to here, no hit [m] (inf: no limit)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(ray_mode, "PerPoint (one ray per point) | PerHitCell (faster)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(decimation, "Keep 1 point in N of scans and point clouds");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(decimation_3d_range, "Depth images: use every N-th row and column");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(min_eigen_ratio,
+                               "Covariance eigenvalue floor, relative to the largest");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(min_eigen_abs, "Covariance eigenvalue floor [m^2]");
+}
+
+ndtom::MapOptions CNDTOccupancyMap::TInsertionOptions::toMapOptions() const {
+  if (decimation < 1 || decimation_3d_range < 1)
+    throw std::invalid_argument("decimation: must be >= 1");
+  ndtom::MapOptions o;
+  o.resolution = resolution;
+  o.occupancy.enabled = occupancy_enabled;
+  o.occupancy.p_hit = p_hit;
+  o.occupancy.p_miss = p_miss;
+  o.occupancy.logodds_min = logodds_min;
+  o.occupancy.logodds_max = logodds_max;
+  o.insertion.min_range = min_range;
+  o.insertion.max_range = max_range;
+  o.insertion.ray_mode = ray_mode;
+  o.regularization.min_eigen_ratio = min_eigen_ratio;
+  o.regularization.min_eigen_abs = min_eigen_abs;
+  ndtom::validate(o);
+  return o;
+}
+
+TPointExtractionOptions CNDTOccupancyMap::TInsertionOptions::extractionOptions() const {
+  return {decimation, decimation_3d_range};
+}
+
+void CNDTOccupancyMap::TInsertionOptions::writeToStream(mrpt::serialization::CArchive& out) const {
+  const uint8_t version = 0;
+  out << version << resolution << occupancy_enabled << p_hit << p_miss << logodds_min << logodds_max
+      << min_range << max_range << int32_t(ray_mode) << decimation << decimation_3d_range
+      << min_eigen_ratio << min_eigen_abs;
+}
+
+void CNDTOccupancyMap::TInsertionOptions::readFromStream(mrpt::serialization::CArchive& in) {
+  uint8_t version;
+  in >> version;
+  switch (version) {
+    case 0: {
+      int32_t mode;
+      in >> resolution >> occupancy_enabled >> p_hit >> p_miss >> logodds_min >> logodds_max >>
+          min_range >> max_range >> mode >> decimation >> decimation_3d_range >> min_eigen_ratio >>
+          min_eigen_abs;
+      ray_mode = ndtom::RayMode(mode);
+    } break;
+    default:
+      MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+  }
+}
+
+bool CNDTOccupancyMap::TInsertionOptions::operator==(const TInsertionOptions& o) const {
+  return resolution == o.resolution && occupancy_enabled == o.occupancy_enabled &&
+         p_hit == o.p_hit && p_miss == o.p_miss && logodds_min == o.logodds_min &&
+         logodds_max == o.logodds_max && min_range == o.min_range && max_range == o.max_range &&
+         ray_mode == o.ray_mode && decimation == o.decimation &&
+         decimation_3d_range == o.decimation_3d_range && min_eigen_ratio == o.min_eigen_ratio &&
+         min_eigen_abs == o.min_eigen_abs;
+}
+
+// --- TLikelihoodOptions ------------------------------------------------------------------
+
+void CNDTOccupancyMap::TLikelihoodOptions::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& source, const std::string& section) {
+  decimation = readDecimation(source, section, "decimation", decimation);
+  decimation_3d_range = readDecimation(source, section, "decimation_3d_range", decimation_3d_range);
+  MRPT_LOAD_CONFIG_VAR(outlier_likelihood, double, source, section);
+  MRPT_LOAD_CONFIG_VAR(search_neighbours, bool, source, section);
+  MRPT_LOAD_CONFIG_VAR(min_range, double, source, section);
+  MRPT_LOAD_CONFIG_VAR(max_range, double, source, section);
+  MRPT_LOAD_CONFIG_VAR(scale, double, source, section);
+  validateSection(section, [this] { validate(); });
+}
+
+void CNDTOccupancyMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                                            const std::string& s) const {
+  MRPT_SAVE_CONFIG_VAR_COMMENT(decimation, "Score 1 point in N");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(decimation_3d_range,
+                               "Depth images: score every N-th row and column");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(outlier_likelihood, "Floor of a point's likelihood, in (0, 1)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(search_neighbours,
+                               "Best Gaussian of the 27 cells around a point (else own cell)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Closer points are not scored [m]");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Farther points are not scored [m] (inf: no limit)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(scale, "Multiplies the log-likelihood (< 1 flattens weights)");
+}
+
+void CNDTOccupancyMap::TLikelihoodOptions::validate() const {
+  std::ostringstream msg;
+  if (decimation < 1 || decimation_3d_range < 1)
+    msg << "decimation: must be >= 1";
+  else if (!(std::isfinite(min_range) && min_range >= 0))
+    msg << "min_range = " << min_range << ": must be finite and >= 0";
+  else if (!(max_range > min_range))
+    msg << "max_range = " << max_range << ": must be > min_range";
+  else if (!(std::isfinite(scale) && scale > 0))
+    msg << "scale = " << scale << ": must be finite and > 0";
+  if (!msg.str().empty()) throw std::invalid_argument(msg.str());
+  ndtom::LikelihoodOptions core;
+  core.outlier_likelihood = outlier_likelihood;
+  ndtom::validate(core);
+}
+
+void CNDTOccupancyMap::TLikelihoodOptions::writeToStream(mrpt::serialization::CArchive& out) const {
+  const uint8_t version = 0;
+  out << version << decimation << decimation_3d_range << outlier_likelihood << search_neighbours
+      << min_range << max_range << scale;
+}
+
+void CNDTOccupancyMap::TLikelihoodOptions::readFromStream(mrpt::serialization::CArchive& in) {
+  uint8_t version;
+  in >> version;
+  switch (version) {
+    case 0:
+      in >> decimation >> decimation_3d_range >> outlier_likelihood >> search_neighbours >>
+          min_range >> max_range >> scale;
+      break;
+    default:
+      MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+  }
+}
+
+bool CNDTOccupancyMap::TLikelihoodOptions::operator==(const TLikelihoodOptions& o) const {
+  return decimation == o.decimation && decimation_3d_range == o.decimation_3d_range &&
+         outlier_likelihood == o.outlier_likelihood && search_neighbours == o.search_neighbours &&
+         min_range == o.min_range && max_range == o.max_range && scale == o.scale;
+}
+
+}  // namespace mrpt_ndtom

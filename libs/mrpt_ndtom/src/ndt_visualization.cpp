@@ -1,0 +1,196 @@
+#include "mrpt_ndtom/ndt_visualization.h"
+
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/opengl/CSetOfTriangles.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace mrpt_ndtom {
+namespace {
+
+using Eigen::Vector3d;
+using UnitTriangle = std::array<Vector3d, 3>;
+
+constexpr uint32_t kMaxSubdivisions = 4;  // 2048 triangles per ellipsoid
+
+// Octahedron refined `levels` times by splitting each triangle in four and pushing the new
+// vertices onto the sphere.
+std::vector<UnitTriangle> unitSphere(uint32_t levels) {
+  const Vector3d x = Vector3d::UnitX(), y = Vector3d::UnitY(), z = Vector3d::UnitZ();
+  std::vector<UnitTriangle> tris;
+  for (const double sx : {1.0, -1.0})
+    for (const double sy : {1.0, -1.0})
+      for (const double sz : {1.0, -1.0}) {
+        UnitTriangle t{sx * x, sy * y, sz * z};
+        if (sx * sy * sz < 0) std::swap(t[1], t[2]);  // counter-clockwise seen from outside
+        tris.push_back(t);
+      }
+  for (uint32_t level = 0; level < levels; ++level) {
+    std::vector<UnitTriangle> finer;
+    for (const auto& t : tris) {
+      const Vector3d a = (t[0] + t[1]).normalized(), b = (t[1] + t[2]).normalized(),
+                     c = (t[2] + t[0]).normalized();
+      finer.insert(finer.end(), {{t[0], a, c}, {a, t[1], b}, {c, b, t[2]}, {a, b, c}});
+    }
+    tris.swap(finer);
+  }
+  return tris;
+}
+
+// Gaussians of occupied cells, the best-supported `max` of them, in cell order.
+std::vector<ndtom::Gaussian> selectGaussians(const ndtom::NdtMap& map, const TRenderOptions& o) {
+  std::vector<ndtom::Gaussian> all;
+  map.forEachCellOrdered([&](const ndtom::CellView& c) {
+    if (c.stats && c.stats->hasGaussian() && c.logodds > o.min_logodds)
+      all.push_back(map.gaussianOf(c, /*regularized=*/true));
+  });
+  if (all.size() > o.max_ellipsoids) {
+    std::stable_sort(all.begin(), all.end(),
+                     [](const auto& a, const auto& b) { return a.n > b.n; });
+    all.resize(o.max_ellipsoids);
+    std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.cell < b.cell; });
+  }
+  return all;
+}
+
+std::pair<double, double> colorRange(const std::vector<ndtom::Gaussian>& gs,
+                                     const TRenderOptions& o) {
+  double lo = o.color_min_z, hi = o.color_max_z;
+  if ((std::isnan(lo) || std::isnan(hi)) && !gs.empty()) {
+    std::vector<double> z;
+    for (const auto& g : gs) z.push_back(g.mean.z());
+    const size_t i_lo = z.size() / 50, i_hi = z.size() - 1 - z.size() / 50;
+    std::nth_element(z.begin(), z.begin() + i_lo, z.end());
+    if (std::isnan(lo)) lo = z[i_lo];
+    std::nth_element(z.begin(), z.begin() + i_hi, z.end());
+    if (std::isnan(hi)) hi = z[i_hi];
+  }
+  if (!(hi > lo)) hi = lo + 1.0;
+  return {lo, hi};
+}
+
+mrpt::math::TPoint3Df toFloat(const Vector3d& v) {
+  return {float(v.x()), float(v.y()), float(v.z())};
+}
+
+void appendEllipsoid(const ndtom::Gaussian& g, const std::vector<UnitTriangle>& sphere,
+                     double quantiles, const mrpt::img::TColor& color,
+                     std::vector<mrpt::opengl::TTriangle>& out) {
+  // Surface point μ + A·u with A = V·diag(k·√λ); its normal is A⁻ᵀ·u.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(g.covariance);
+  const Vector3d sigma = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt() * quantiles;
+  const Eigen::Matrix3d a = eig.eigenvectors() * sigma.asDiagonal();
+  const Eigen::Matrix3d normal_map =
+      eig.eigenvectors() * sigma.cwiseMax(1e-9).cwiseInverse().asDiagonal();
+  for (const auto& t : sphere) {
+    mrpt::opengl::TTriangle tri;
+    for (int k = 0; k < 3; ++k) {
+      auto& v = tri.vertices[k];
+      v.xyzrgba.pt = toFloat(g.mean + a * t[k]);
+      v.setColor(color);
+      const Vector3d n = (normal_map * t[k]).normalized();
+      v.normal = {float(n.x()), float(n.y()), float(n.z())};
+    }
+    out.push_back(tri);
+  }
+}
+
+mrpt::opengl::CPointCloudColoured::Ptr freeCells(const ndtom::NdtMap& map,
+                                                 const TRenderOptions& o) {
+  std::vector<Vector3d> centres;
+  map.forEachCellOrdered([&](const ndtom::CellView& c) {
+    if (c.logodds < 0) centres.push_back(map.geometry().cellCenter(c.index));
+  });
+  auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+  cloud->setName("ndtom_free_cells");
+  cloud->setPointSize(o.free_cell_point_size);
+  if (o.max_free_cells == 0) return cloud;
+  const size_t step =
+      std::max<size_t>(1, (centres.size() + o.max_free_cells - 1) / o.max_free_cells);
+  for (size_t i = 0; i < centres.size(); i += step) {
+    const auto& p = centres[i];
+    cloud->push_back(float(p.x()), float(p.y()), float(p.z()), 0.6f, 0.8f, 1.0f, 0.5f);
+  }
+  return cloud;
+}
+
+}  // namespace
+
+size_t trianglesPerEllipsoid(uint32_t subdivisions) {
+  return size_t(8) << (2 * subdivisions);
+}
+
+void TRenderOptions::validate() const {
+  std::ostringstream msg;
+  if (!(std::isfinite(quantiles) && quantiles > 0))
+    msg << "quantiles = " << quantiles << ": must be finite and > 0";
+  else if (subdivisions > kMaxSubdivisions)
+    msg << "subdivisions = " << subdivisions << ": must be <= " << kMaxSubdivisions;
+  else if (!(free_cell_point_size > 0))
+    msg << "free_cell_point_size = " << free_cell_point_size << ": must be > 0";
+  else if (std::isnan(min_logodds))
+    msg << "min_logodds: must not be NaN";
+  if (!msg.str().empty()) throw std::invalid_argument(msg.str());
+}
+
+void buildNdtVisualization(const ndtom::NdtMap& map, const TRenderOptions& o,
+                           mrpt::opengl::CSetOfObjects& out) {
+  o.validate();
+  const std::vector<ndtom::Gaussian> gaussians = selectGaussians(map, o);
+  if (!gaussians.empty()) {
+    const auto sphere = unitSphere(o.subdivisions);
+    const auto [z_lo, z_hi] = colorRange(gaussians, o);
+    std::vector<mrpt::opengl::TTriangle> tris;
+    tris.reserve(gaussians.size() * sphere.size());
+    for (const auto& g : gaussians) {
+      float r, gr, b;
+      const double t = std::clamp((g.mean.z() - z_lo) / (z_hi - z_lo), 0.0, 1.0);
+      mrpt::img::colormap(o.colormap, float(t), r, gr, b);
+      const mrpt::img::TColor color(uint8_t(255 * r), uint8_t(255 * gr), uint8_t(255 * b));
+      appendEllipsoid(g, sphere, o.quantiles, color, tris);
+    }
+    auto mesh = mrpt::opengl::CSetOfTriangles::Create();
+    mesh->setName("ndtom_gaussians");
+    mesh->insertTriangles(tris.begin(), tris.end());
+    out.insert(mesh);
+  }
+  if (o.show_free_cells) out.insert(freeCells(map, o));
+}
+
+void TRenderOptions::writeToStream(mrpt::serialization::CArchive& out) const {
+  const uint8_t version = 0;
+  out << version << quantiles << subdivisions << max_ellipsoids << min_logodds << color_min_z
+      << color_max_z << int32_t(colormap) << show_free_cells << max_free_cells
+      << free_cell_point_size;
+}
+
+void TRenderOptions::readFromStream(mrpt::serialization::CArchive& in) {
+  uint8_t version;
+  in >> version;
+  switch (version) {
+    case 0: {
+      int32_t cmap;
+      in >> quantiles >> subdivisions >> max_ellipsoids >> min_logodds >> color_min_z >>
+          color_max_z >> cmap >> show_free_cells >> max_free_cells >> free_cell_point_size;
+      colormap = mrpt::img::TColormap(cmap);
+    } break;
+    default:
+      MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+  }
+}
+
+bool TRenderOptions::operator==(const TRenderOptions& o) const {
+  auto same = [](double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); };
+  return quantiles == o.quantiles && subdivisions == o.subdivisions &&
+         max_ellipsoids == o.max_ellipsoids && min_logodds == o.min_logodds &&
+         same(color_min_z, o.color_min_z) && same(color_max_z, o.color_max_z) &&
+         colormap == o.colormap && show_free_cells == o.show_free_cells &&
+         max_free_cells == o.max_free_cells && free_cell_point_size == o.free_cell_point_size;
+}
+
+}  // namespace mrpt_ndtom

@@ -1,0 +1,227 @@
+// CNDTOccupancyMap from .ini text through MRPT's own machinery (TSetOfMetricMapInitializers,
+// CMultiMetricMap): the options read back equal the text, survive save -> load, and bad
+// values fail at load time with the option's name.
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+
+#include <sstream>
+
+#include "mrpt_ndtom/CNDTOccupancyMap.h"
+
+using mrpt_ndtom::CNDTOccupancyMap;
+
+namespace {
+
+const char* kIni = R"ini(
+[MetricMap]
+ndtOccupancyMap_count = 1
+pointsMap_count       = 1
+
+[MetricMap_ndtOccupancyMap_00_creationOpts]
+enableSaveAs3DObject        = false
+enableObservationLikelihood = true
+
+[MetricMap_ndtOccupancyMap_00_insertOpts]
+resolution          = 0.35
+occupancy_enabled   = false
+p_hit               = 0.7
+p_miss              = 0.45
+logodds_min         = -3.25
+logodds_max         = 4.5
+min_range           = 0.3
+max_range           = 25
+ray_mode            = PerHitCell
+decimation          = 3
+decimation_3d_range = 4
+min_eigen_ratio     = 0.02
+min_eigen_abs       = 1e-05
+
+[MetricMap_ndtOccupancyMap_00_likelihoodOpts]
+decimation          = 7
+decimation_3d_range = 5
+outlier_likelihood  = 0.125
+search_neighbours   = false
+min_range           = 0.5
+max_range           = 12.5
+scale               = 0.25
+)ini";
+
+mrpt::maps::CMultiMetricMap multiMapFrom(const std::string& text, const std::string& section) {
+  mrpt::maps::TSetOfMetricMapInitializers inits;
+  inits.loadFromConfigFile(mrpt::config::CConfigFileMemory(text), section);
+  mrpt::maps::CMultiMetricMap map;
+  map.setListOfMaps(inits);
+  return map;
+}
+
+CNDTOccupancyMap::TInsertionOptions loadInsertion(const std::string& body) {
+  CNDTOccupancyMap::TInsertionOptions o;
+  o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s");
+  return o;
+}
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(IniOptions, ShortNameCreatesTheMapWithTheTextsOptions) {
+  const auto multi = multiMapFrom(kIni, "MetricMap");
+  ASSERT_EQ(multi.countMapsByClass<CNDTOccupancyMap>(), 1u);
+  ASSERT_EQ(multi.countMapsByClass<mrpt::maps::CSimplePointsMap>(), 1u);
+  const auto map = multi.mapByClass<CNDTOccupancyMap>();
+  ASSERT_TRUE(map);
+
+  const auto& in = map->insertionOptions;
+  EXPECT_EQ(in.resolution, 0.35);
+  EXPECT_FALSE(in.occupancy_enabled);
+  EXPECT_EQ(in.p_hit, 0.7);
+  EXPECT_EQ(in.p_miss, 0.45);
+  EXPECT_EQ(in.logodds_min, -3.25);
+  EXPECT_EQ(in.logodds_max, 4.5);
+  EXPECT_EQ(in.min_range, 0.3);
+  EXPECT_EQ(in.max_range, 25.0);
+  EXPECT_EQ(in.ray_mode, ndtom::RayMode::PerHitCell);
+  EXPECT_EQ(in.decimation, 3u);
+  EXPECT_EQ(in.decimation_3d_range, 4u);
+  EXPECT_EQ(in.min_eigen_ratio, 0.02);
+  EXPECT_EQ(in.min_eigen_abs, 1e-5);
+
+  const auto& lk = map->likelihoodOptions;
+  EXPECT_EQ(lk.decimation, 7u);
+  EXPECT_EQ(lk.decimation_3d_range, 5u);
+  EXPECT_EQ(lk.outlier_likelihood, 0.125);
+  EXPECT_FALSE(lk.search_neighbours);
+  EXPECT_EQ(lk.min_range, 0.5);
+  EXPECT_EQ(lk.max_range, 12.5);
+  EXPECT_EQ(lk.scale, 0.25);
+
+  EXPECT_FALSE(map->genericMapParams.enableSaveAs3DObject);
+  // The core map already runs with these options.
+  EXPECT_EQ(map->ndtMap().options().resolution, 0.35);
+  EXPECT_FALSE(map->ndtMap().options().occupancy.enabled);
+  EXPECT_EQ(map->ndtMap().options().insertion.ray_mode, ndtom::RayMode::PerHitCell);
+}
+
+TEST(IniOptions, DefaultsWhenSectionsAreMissing) {
+  const auto multi = multiMapFrom("[M]\nndtOccupancyMap_count=1\n", "M");
+  const auto map = multi.mapByClass<CNDTOccupancyMap>();
+  ASSERT_TRUE(map);
+  EXPECT_TRUE(map->insertionOptions == CNDTOccupancyMap::TInsertionOptions());
+  EXPECT_TRUE(map->likelihoodOptions == CNDTOccupancyMap::TLikelihoodOptions());
+  EXPECT_TRUE(map->genericMapParams.enableSaveAs3DObject);
+}
+
+TEST(IniOptions, FactoryKnowsBothNames) {
+  for (const char* name : {"ndtOccupancyMap", "mrpt_ndtom::CNDTOccupancyMap"}) {
+    std::unique_ptr<mrpt::maps::TMetricMapInitializer> def(
+        mrpt::maps::TMetricMapInitializer::factory(name));
+    ASSERT_TRUE(def) << name;
+    EXPECT_EQ(def->getMetricMapClassType(), CLASS_ID(CNDTOccupancyMap));
+  }
+}
+
+TEST(IniOptions, SaveLoadRoundTripIsExact) {
+  const auto map = multiMapFrom(kIni, "MetricMap").mapByClass<CNDTOccupancyMap>();
+  ASSERT_TRUE(map);
+  mrpt::config::CConfigFileMemory saved;
+  map->insertionOptions.saveToConfigFile(saved, "ins");
+  map->likelihoodOptions.saveToConfigFile(saved, "lik");
+  // Through the text, as a file would: MRPT cannot read values it wrote with a comment
+  // back from the same in-memory object.
+  const mrpt::config::CConfigFileMemory text(saved.getContent());
+  CNDTOccupancyMap::TInsertionOptions ins;
+  CNDTOccupancyMap::TLikelihoodOptions lik;
+  ins.loadFromConfigFile(text, "ins");
+  lik.loadFromConfigFile(text, "lik");
+  EXPECT_TRUE(ins == map->insertionOptions) << saved.getContent();
+  EXPECT_TRUE(lik == map->likelihoodOptions) << saved.getContent();
+
+  // Defaults too, including max_range = inf.
+  mrpt::config::CConfigFileMemory defaults;
+  CNDTOccupancyMap::TInsertionOptions().saveToConfigFile(defaults, "d");
+  EXPECT_TRUE(loadInsertion(defaults.getContent().substr(defaults.getContent().find('\n') + 1)) ==
+              CNDTOccupancyMap::TInsertionOptions());
+}
+
+TEST(IniOptions, DumpListsEveryOptionWithAComment) {
+  std::ostringstream ins, lik;
+  CNDTOccupancyMap::TInsertionOptions().dumpToTextStream(ins);
+  CNDTOccupancyMap::TLikelihoodOptions().dumpToTextStream(lik);
+  for (const char* key : {"resolution", "occupancy_enabled", "p_hit", "p_miss", "logodds_min",
+                          "logodds_max", "min_range", "max_range", "ray_mode", "decimation",
+                          "decimation_3d_range", "min_eigen_ratio", "min_eigen_abs"})
+    EXPECT_NE(ins.str().find(key), std::string::npos) << key;
+  for (const char* key : {"decimation", "outlier_likelihood", "search_neighbours", "scale"})
+    EXPECT_NE(lik.str().find(key), std::string::npos) << key;
+  EXPECT_NE(ins.str().find("PerPoint"), std::string::npos) << "enum written by name";
+  EXPECT_NE(ins.str().find("// Cell edge [m]"), std::string::npos) << ins.str();
+}
+
+TEST(IniOptions, RayModeByNumberToo) {
+  EXPECT_EQ(loadInsertion("ray_mode = 1").ray_mode, ndtom::RayMode::PerHitCell);
+  EXPECT_EQ(loadInsertion("ray_mode = 0").ray_mode, ndtom::RayMode::PerPoint);
+}
+
+TEST(IniOptions, BadValuesFailAtLoadNamingTheOption) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"p_hit = 0.4", "p_hit"},
+      {"p_miss = 0.6", "p_miss"},
+      {"resolution = 0", "resolution"},
+      {"logodds_min = 1", "logodds_min"},
+      {"max_range = 0.1\nmin_range = 0.5", "max_range"},
+      {"decimation = 0", "decimation"},
+      {"decimation_3d_range = -2", "decimation_3d_range"},
+      {"ray_mode = Sideways", "ray_mode"},
+      {"ray_mode = 7", "ray_mode"},
+      {"min_eigen_ratio = 2", "min_eigen_ratio"},
+  };
+  for (const auto& [body, option] : cases) {
+    const std::string msg = errorOf([&] { loadInsertion(body); });
+    EXPECT_NE(msg.find(option), std::string::npos) << body << " -> " << msg;
+  }
+  const std::vector<std::pair<std::string, std::string>> likelihood = {
+      {"outlier_likelihood = 0", "outlier_likelihood"},
+      {"outlier_likelihood = 1.5", "outlier_likelihood"},
+      {"scale = -1", "scale"},
+      {"decimation = 0", "decimation"},
+      {"max_range = 0", "max_range"},
+  };
+  for (const auto& [body, option] : likelihood) {
+    CNDTOccupancyMap::TLikelihoodOptions o;
+    const std::string msg = errorOf(
+        [&] { o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s"); });
+    EXPECT_NE(msg.find(option), std::string::npos) << body << " -> " << msg;
+  }
+  // Through the multi-map loader the section is named as well.
+  const std::string msg = errorOf([] {
+    multiMapFrom("[M]\nndtOccupancyMap_count=1\n[M_ndtOccupancyMap_00_insertOpts]\np_hit=2\n", "M");
+  });
+  EXPECT_NE(msg.find("M_ndtOccupancyMap_00_insertOpts"), std::string::npos) << msg;
+}
+
+TEST(IniOptions, ResolutionIsFixedOnceTheMapHoldsData) {
+  CNDTOccupancyMap map(0.5);
+  map.insertionOptions.resolution = 0.25;  // empty map: taken at the next insertion
+  map.insertPoints({{2, 0, 0}, {2, 0.01, 0}, {2, 0.02, 0.01}}, {0, 0, 0});
+  EXPECT_EQ(map.ndtMap().options().resolution, 0.25);
+  map.insertionOptions.resolution = 1.0;
+  EXPECT_THROW(map.insertPoints({{3, 0, 0}}, {0, 0, 0}), std::exception);
+  // Other options may change: the map is rebuilt with the new clamp.
+  map.insertionOptions.resolution = 0.25;
+  map.insertionOptions.logodds_max = 0.1;
+  map.insertPoints({{3, 0, 0}}, {0, 0, 0});
+  map.ndtMap().forEachCell([](const ndtom::CellView& c) { EXPECT_LE(c.logodds, 0.1f); });
+  map.clear();
+  map.insertionOptions.resolution = 1.0;  // allowed again after clear()
+  map.insertPoints({{3, 0, 0}}, {0, 0, 0});
+  EXPECT_EQ(map.ndtMap().options().resolution, 1.0);
+}

@@ -1,0 +1,150 @@
+// Drawing: every ellipsoid vertex lies on the k-σ surface of its Gaussian (checked with the
+// core's covariance and a direct inverse), culling keeps the best-supported Gaussians,
+// enableSaveAs3DObject is honoured, and saveMetricMapRepresentationToFile writes a map file
+// and a scene that load back.
+#include <gtest/gtest.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/opengl/CSetOfTriangles.h>
+#include <mrpt/system/filesystem.h>
+
+#include <Eigen/LU>
+#include <random>
+
+#include "mrpt_ndtom/CNDTOccupancyMap.h"
+#include "ndtom/map_io.h"
+
+using Eigen::Vector3d;
+using mrpt_ndtom::CNDTOccupancyMap;
+
+namespace {
+
+// A few blobs of different sizes and a floor, seen from above.
+CNDTOccupancyMap::Ptr sampleMap() {
+  auto map = CNDTOccupancyMap::Create(0.5);
+  std::mt19937 rng(1);
+  std::normal_distribution<double> n(0, 1);
+  std::vector<Vector3d> points;
+  for (int i = 0; i < 4000; ++i)
+    points.emplace_back(0.1 + 0.8 * (i % 40) / 40.0, 0.1 + 0.8 * (i / 40 % 40) / 40.0, 0.2);
+  for (int i = 0; i < 500; ++i)
+    points.emplace_back(3.25 + 0.05 * n(rng), 0.25, 1.25 + 0.02 * n(rng));
+  for (int i = 0; i < 30; ++i) points.emplace_back(-2.25 + 0.05 * n(rng), 1.25, 0.75);
+  map->insertPoints(points, Vector3d(0.5, 0.5, 5.0));
+  return map;
+}
+
+std::shared_ptr<mrpt::opengl::CSetOfTriangles> meshOf(mrpt::opengl::CSetOfObjects& objs) {
+  return std::dynamic_pointer_cast<mrpt::opengl::CSetOfTriangles>(
+      objs.getByName("ndtom_gaussians"));
+}
+
+}  // namespace
+
+TEST(Visualization, EllipsoidVerticesLieOnTheSigmaSurface) {
+  const auto map = sampleMap();
+  const auto& ndt = map->ndtMap();
+  for (const double k : {1.0, 2.0}) {
+    mrpt_ndtom::TRenderOptions options;
+    options.quantiles = k;
+    options.subdivisions = 1;
+    mrpt::opengl::CSetOfObjects objs;
+    mrpt_ndtom::buildNdtVisualization(ndt, options, objs);
+    const auto mesh = meshOf(objs);
+    ASSERT_TRUE(mesh);
+    const size_t per = mrpt_ndtom::trianglesPerEllipsoid(1);
+    EXPECT_EQ(per, 32u);
+    ASSERT_EQ(mesh->getTrianglesCount(), ndt.numGaussians() * per);
+
+    // Gaussians are drawn in cell order, as forEachCellOrdered lists them.
+    std::vector<ndtom::Gaussian> gaussians;
+    ndt.forEachCellOrdered([&](const ndtom::CellView& c) {
+      if (c.stats && c.stats->hasGaussian()) gaussians.push_back(ndt.gaussianOf(c, true));
+    });
+    for (size_t g = 0; g < gaussians.size(); ++g) {
+      const Eigen::Matrix3d inv = gaussians[g].covariance.inverse();
+      for (size_t t = 0; t < per; ++t) {
+        mrpt::opengl::TTriangle tri;
+        mesh->getTriangle(g * per + t, tri);
+        for (int v = 0; v < 3; ++v) {
+          const auto& pt = tri.vertices[v].xyzrgba.pt;
+          const Vector3d d = Vector3d(pt.x, pt.y, pt.z) - gaussians[g].mean;
+          EXPECT_NEAR(std::sqrt(d.dot(inv * d)), k, 1e-3 * k) << "gaussian " << g;
+          // Normals point outwards.
+          const auto& nv = tri.vertices[v].normal;
+          EXPECT_GT(Vector3d(nv.x, nv.y, nv.z).dot(inv * d), 0.0);
+        }
+      }
+    }
+  }
+}
+
+TEST(Visualization, CullingKeepsTheGaussiansWithMostPoints) {
+  const auto map = sampleMap();
+  mrpt_ndtom::TRenderOptions options;
+  options.subdivisions = 0;
+  options.max_ellipsoids = 2;
+  mrpt::opengl::CSetOfObjects objs;
+  mrpt_ndtom::buildNdtVisualization(map->ndtMap(), options, objs);
+  const auto mesh = meshOf(objs);
+  ASSERT_TRUE(mesh);
+  ASSERT_EQ(mesh->getTrianglesCount(), 2u * 8u);
+  std::vector<uint32_t> counts;
+  map->ndtMap().forEachGaussian([&](const ndtom::Gaussian& g) { counts.push_back(g.n); });
+  std::sort(counts.rbegin(), counts.rend());
+  ASSERT_GE(counts.size(), 3u);
+  // The drawn ellipsoids hold the two largest counts: the 30-point blob is left out.
+  const Eigen::Vector3d small_blob(-2.25, 1.25, 0.75);
+  for (size_t t = 0; t < mesh->getTrianglesCount(); ++t) {
+    mrpt::opengl::TTriangle tri;
+    mesh->getTriangle(t, tri);
+    const auto& p = tri.vertices[0].xyzrgba.pt;
+    EXPECT_GT((Vector3d(p.x, p.y, p.z) - small_blob).norm(), 0.5);
+  }
+}
+
+TEST(Visualization, HonoursEnableSaveAs3DObjectAndFreeCells) {
+  auto map = sampleMap();
+  mrpt::opengl::CSetOfObjects drawn;
+  map->getVisualizationInto(drawn);
+  EXPECT_TRUE(meshOf(drawn));
+  EXPECT_FALSE(drawn.getByName("ndtom_free_cells"));
+
+  map->renderOptions.show_free_cells = true;
+  mrpt::opengl::CSetOfObjects with_free;
+  map->getVisualizationInto(with_free);
+  const auto free_cells = std::dynamic_pointer_cast<mrpt::opengl::CPointCloudColoured>(
+      with_free.getByName("ndtom_free_cells"));
+  ASSERT_TRUE(free_cells);
+  size_t free_count = 0;
+  map->ndtMap().forEachCell([&](const ndtom::CellView& c) { free_count += c.logodds < 0; });
+  EXPECT_GT(free_count, 0u);
+  EXPECT_EQ(free_cells->size(), free_count);
+
+  map->genericMapParams.enableSaveAs3DObject = false;
+  mrpt::opengl::CSetOfObjects nothing;
+  map->getVisualizationInto(nothing);
+  EXPECT_EQ(nothing.size(), 0u);
+
+  mrpt_ndtom::TRenderOptions bad;
+  bad.quantiles = 0;
+  EXPECT_THROW(mrpt_ndtom::buildNdtVisualization(map->ndtMap(), bad, nothing),
+               std::invalid_argument);
+}
+
+TEST(Visualization, SaveRepresentationWritesMapAndScene) {
+  const auto map = sampleMap();
+  const std::string prefix = mrpt::system::getTempFileName() + "_ndt";
+  map->saveMetricMapRepresentationToFile(prefix);
+
+  EXPECT_EQ(ndtom::encodeMap(ndtom::loadMap(prefix + ".ndtom")), ndtom::encodeMap(map->ndtMap()));
+  mrpt::opengl::COpenGLScene scene;
+  ASSERT_TRUE(scene.loadFromFile(prefix + ".3Dscene"));
+  const auto mesh = scene.getByClass<mrpt::opengl::CSetOfTriangles>();
+  ASSERT_TRUE(mesh);
+  EXPECT_EQ(mesh->getTrianglesCount(),
+            map->ndtMap().numGaussians() *
+                mrpt_ndtom::trianglesPerEllipsoid(map->renderOptions.subdivisions));
+  std::remove((prefix + ".ndtom").c_str());
+  std::remove((prefix + ".3Dscene").c_str());
+}
