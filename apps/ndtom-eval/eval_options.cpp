@@ -59,14 +59,16 @@ std::vector<double> parseResolutions(const std::string& option, const std::strin
   return values;
 }
 
-std::set<std::string> parseExperiments(const std::string& text) {
+/// A non-empty subset of `allowed`.
+std::set<std::string> parseChoice(const std::string& option, const std::string& text,
+                                  const std::vector<std::string>& allowed) {
   std::set<std::string> chosen;
   for (const std::string& name : splitList(text)) {
-    if (std::find(kExperimentNames.begin(), kExperimentNames.end(), name) == kExperimentNames.end())
-      throw UsageError("--experiments: unknown experiment '" + name + "' (see --help)");
+    if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+      throw UsageError(option + ": unknown name '" + name + "' (see --help)");
     chosen.insert(name);
   }
-  if (chosen.empty()) throw UsageError("--experiments: empty list");
+  if (chosen.empty()) throw UsageError(option + ": empty list");
   return chosen;
 }
 
@@ -94,7 +96,12 @@ EvalOptions parseEvalOptions(int argc, char** argv) {
       {"--ray-mode-resolutions",
        [&](auto& a, auto& v) { o.ray_mode_resolutions = parseResolutions(a, v); }},
       {"--min-eigenvalue", [&](auto& a, auto& v) { o.min_eigenvalue = parsePositive(a, v); }},
-      {"--experiments", [&](auto&, auto& v) { o.experiments = parseExperiments(v); }},
+      {"--experiments",
+       [&](auto& a, auto& v) { o.experiments = parseChoice(a, v, kExperimentNames); }},
+      {"--consistency-data",
+       [&](auto& a, auto& v) {
+         o.consistency_data = parseChoice(a, v, {"tum", "lidar"});
+       }},
   };
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -123,6 +130,7 @@ Data (defaults: ../shared/datasets beside the repository):
   --tum-decimation K         use every K-th depth pixel in both directions (default: 1)
   --lidar-scans N            lidar scans for mapping, multires, sweep, raymodes (default: all)
   --consistency-scans N      lidar scans for Fig. 1 and 2 (default: 30)
+  --consistency-data LIST    datasets for Fig. 1 and 2: tum,lidar (default: both)
 
 Resolutions (m):
   --tum-resolution R         Fig. 1/2 on the TUM frames (default: 0.1)

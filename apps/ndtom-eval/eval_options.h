@@ -33,10 +33,15 @@ struct EvalOptions {
   std::vector<double> ray_mode_resolutions = {0.2, 0.4};
   double min_eigenvalue = 1e-6;       ///< covariance floor of the similarity (Default: 1e-6 m²)
   std::set<std::string> experiments;  ///< empty = all
+  std::set<std::string> consistency_data = {"tum", "lidar"};  ///< datasets of Fig. 1 and 2
   bool help = false;
 
   bool runs(const std::string& experiment) const {
     return experiments.empty() || experiments.count(experiment) > 0;
+  }
+  /// Fig. 1 and 2 on this dataset ("tum" or "lidar")?
+  bool runsConsistencyOn(const std::string& dataset) const {
+    return runs("consistency") && consistency_data.count(dataset) > 0;
   }
 };
 

@@ -157,7 +157,8 @@ void writeLinePlot(const std::string& path, const PlotAxes& axes,
   cv::Mat img(kHeight, kWidth, CV_8UC3, cv::Scalar::all(255));
   drawAxes(img, frame, axes);
   for (size_t i = 0; i < series.size(); ++i) drawSeries(img, frame, series[i], int(i));
-  if (!cv::imwrite(path, img)) throw std::runtime_error("cannot write " + path);
+  if (!cv::imwrite(path, img, {cv::IMWRITE_PNG_COMPRESSION, 9}))
+    throw std::runtime_error("cannot write " + path);
 }
 
 }  // namespace ndtom::eval

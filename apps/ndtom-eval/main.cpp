@@ -13,7 +13,7 @@ namespace {
 
 void runAll(EvalContext& ctx) {
   const EvalOptions& o = ctx.options;
-  if (o.runs("consistency")) {
+  if (o.runsConsistencyOn("tum")) {
     const auto tum = loadTumClouds(o.tum_dir, o.tum_frames, o.tum_decimation);
     std::fprintf(stderr, "TUM: %zu frames, %zu points (decimation %d)\n", tum.size(),
                  totalPoints(tum), o.tum_decimation);
@@ -21,14 +21,14 @@ void runAll(EvalContext& ctx) {
     ctx.summary.add("tum_points", totalPoints(tum));
     runConsistency(ctx, "tum", tum, o.tum_resolution);
   }
-  const bool needs_lidar = o.runs("consistency") || o.runs("mapping") || o.runs("multires") ||
-                           o.runs("sweep") || o.runs("raymodes");
+  const bool needs_lidar = o.runsConsistencyOn("lidar") || o.runs("mapping") ||
+                           o.runs("multires") || o.runs("sweep") || o.runs("raymodes");
   if (!needs_lidar) return;
   const auto lidar = loadLidarClouds(o.lidar_dir, o.lidar_scans);
   std::fprintf(stderr, "lidar: %zu scans, %zu points\n", lidar.size(), totalPoints(lidar));
   ctx.summary.add("lidar_scans", lidar.size());
   ctx.summary.add("lidar_points", totalPoints(lidar));
-  if (o.runs("consistency")) {
+  if (o.runsConsistencyOn("lidar")) {
     const size_t n = std::min(lidar.size(), size_t(o.consistency_scans));
     runConsistency(ctx, "lidar", {lidar.begin(), lidar.begin() + long(n)}, o.lidar_resolution);
   }

@@ -120,7 +120,8 @@ void TopView::drawHeightBar(double z_min, double z_max) {
 }
 
 void TopView::write(const std::string& path) const {
-  if (!cv::imwrite(path, image_)) throw std::runtime_error("cannot write " + path);
+  if (!cv::imwrite(path, image_, {cv::IMWRITE_PNG_COMPRESSION, 9}))
+    throw std::runtime_error("cannot write " + path);
 }
 
 }  // namespace ndtom::eval
