@@ -47,8 +47,8 @@ void validate(const ErrorRefinementOptions& o);
 /// ε(occ) of the ER update; occ is clamped to ±o_max first.
 double errorRefinementRate(double occ, const ErrorRefinementOptions& o);
 
-/// One ER step for point x (all in one frame): μ ← μ + ε(x − μ), then P ← P + ε((x − μ)(x − μ)ᵀ −
-/// P).
+/// One ER step for point x (all in one frame, m and m²):
+///   μ ← μ + ε(x − μ), then P ← P + ε((x − μ)(x − μ)ᵀ − P) with the new μ.
 void refineGaussian(Eigen::Vector3d& mean, Eigen::Matrix3d& covariance, const Eigen::Vector3d& x,
                     double epsilon);
 
