@@ -22,6 +22,10 @@ std::string ratioText(const std::optional<double>& r) {
   return r ? format("%.3f", *r) : "-";
 }
 
+std::string optionalText(const std::optional<double>& v) {
+  return v ? std::to_string(*v) : "";
+}
+
 std::string mismatchText(const std::optional<MapComparison>& c) {
   return c ? format("%.4f", c->occupancy_mismatch) : "";
 }
@@ -29,21 +33,26 @@ std::string mismatchText(const std::optional<MapComparison>& c) {
 }  // namespace
 
 std::optional<double> timeRatio(const std::vector<RunResult>& runs, const RunResult& run,
-                                const std::string& other_label) {
+                                const std::string& other_label, bool cpu_time) {
   const RunResult* other = findRun(runs, run.dataset, run.resolution, other_label);
-  if (!other || other->medianSeconds() <= 0) return std::nullopt;
-  return run.medianSeconds() / other->medianSeconds();
+  if (!other) return std::nullopt;
+  const double mine = cpu_time ? run.medianCpuSeconds() : run.medianSeconds();
+  const double theirs = cpu_time ? other->medianCpuSeconds() : other->medianSeconds();
+  if (!(theirs > 0)) return std::nullopt;
+  return mine / theirs;
 }
 
 std::string resultsTable(const std::vector<RunResult>& runs) {
   std::string out =
-      "| dataset | system | res (m) | median ms/scan | p95 ms/scan | Mpoints/s | Mvisits/s | "
+      "| dataset | system | res (m) | median ms/scan | p95 ms/scan | median CPU ms | Mpoints/s | "
+      "Mvisits/s | "
       "CPU/wall | peak RSS Δ (MB) | map (MB) | B/cell | cells | t/t_octomap | t/t_grid3d |\n"
-      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const RunResult& r : runs) {
     out += "| " + r.dataset + " | " + r.label + " | " + format("%.2f", r.resolution) + " | " +
            format("%.2f", r.medianSeconds() * 1e3) + " | " + format("%.2f", r.p95Seconds() * 1e3) +
-           " | " + format("%.2f", r.pointsPerSecond() * 1e-6) + " | " +
+           " | " + format("%.2f", r.medianCpuSeconds() * 1e3) + " | " +
+           format("%.2f", r.pointsPerSecond() * 1e-6) + " | " +
            format("%.1f", r.visitsPerSecond() * 1e-6) + " | " + format("%.2f", r.cpuPerWall()) +
            " | " + (r.peak_rss_valid ? format("%.1f", double(r.peak_rss_delta) / 1e6) : "n/a") +
            " | " + format("%.1f", double(r.map.memory_bytes) / 1e6) + " | " +
@@ -83,7 +92,8 @@ void writeCsv(const std::string& path, const std::vector<RunResult>& runs) {
   out << "dataset,system,threads,resolution_m,scans,repeats,median_ms,p95_ms,points_per_s,"
          "voxel_visits_per_s,points,voxel_visits,peak_rss_delta_bytes,memory_bytes,cells,"
          "bytes_per_cell,ratio_octomap,ratio_grid3d,repeat_median_min_ms,repeat_median_max_ms,"
-         "identical_to_t1,gaussians,occupancy_mismatch_vs_exact,similarity_vs_exact,cpu_per_wall\n";
+         "identical_to_t1,gaussians,occupancy_mismatch_vs_exact,similarity_vs_exact,cpu_per_wall,"
+         "median_cpu_ms,ratio_octomap_cpu,ratio_grid3d_cpu\n";
   for (const RunResult& r : runs) {
     const auto [lo, hi] =
         std::minmax_element(r.repeat_median_seconds.begin(), r.repeat_median_seconds.end());
@@ -99,7 +109,9 @@ void writeCsv(const std::string& path, const std::vector<RunResult>& runs) {
         << (r.vs_exact ? std::to_string(r.vs_exact->gaussians_test) : "") << ','
         << mismatchText(r.vs_exact) << ','
         << (r.vs_exact && r.vs_exact->similarity ? std::to_string(*r.vs_exact->similarity) : "")
-        << ',' << r.cpuPerWall() << '\n';
+        << ',' << r.cpuPerWall() << ',' << r.medianCpuSeconds() * 1e3 << ','
+        << optionalText(timeRatio(runs, r, kOctomap, true)) << ','
+        << optionalText(timeRatio(runs, r, kGrid3d, true)) << '\n';
   }
   if (!out) throw std::runtime_error("--csv " + path + ": write failed");
 }

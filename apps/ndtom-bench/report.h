@@ -10,9 +10,10 @@
 namespace ndtom::bench {
 
 /// Median time per scan of `run` divided by that of `other_label` in the same dataset and
-/// resolution (same process, same run): empty if that system was not run.
+/// resolution (same process, same run): empty if that system was not run. Wall-clock time,
+/// or process CPU time if `cpu_time`.
 std::optional<double> timeRatio(const std::vector<RunResult>& runs, const RunResult& run,
-                                const std::string& other_label);
+                                const std::string& other_label, bool cpu_time = false);
 
 /// One row per run: times, rates, memory, cells and the ratios to OctoMap and the 3D grid.
 std::string resultsTable(const std::vector<RunResult>& runs);

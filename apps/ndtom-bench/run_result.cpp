@@ -18,6 +18,9 @@ double quantile(std::vector<double> samples, double q) {
 double RunResult::medianSeconds() const {
   return quantile(scan_seconds, 0.5);
 }
+double RunResult::medianCpuSeconds() const {
+  return quantile(scan_cpu_seconds, 0.5);
+}
 double RunResult::p95Seconds() const {
   return quantile(scan_seconds, 0.95);
 }

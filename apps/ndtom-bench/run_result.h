@@ -33,6 +33,9 @@ struct RunResult {
   std::optional<MapComparison> vs_one_thread;
 
   double medianSeconds() const;
+  /// Median process CPU time per scan: unlike wall time, not inflated when other processes
+  /// take the core (a cross-check on a shared machine; meaningless for threads > 1).
+  double medianCpuSeconds() const;
   double p95Seconds() const;
   double totalSeconds() const;
   /// Process CPU time over wall time of the insertions: ~1 for one thread on an idle core,

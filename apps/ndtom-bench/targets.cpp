@@ -34,8 +34,11 @@ std::string speedTarget(const std::vector<RunResult>& runs, const std::string& d
     if (!r) continue;
     const auto o = timeRatio(runs, *r, "octomap"), g = timeRatio(runs, *r, "mrpt-grid3d");
     if (!o || !g) return "SKIP " + name + ": needs octomap and mrpt-grid3d at 0.2 m";
+    const auto o_cpu = timeRatio(runs, *r, "octomap", true);
+    const auto g_cpu = timeRatio(runs, *r, "mrpt-grid3d", true);
     detail += std::string(detail.empty() ? "" : "; ") + mode +
-              printf1(" %.2f ms = %.3f x OctoMap, %.2f x grid", r->medianSeconds() * 1e3, *o, *g);
+              printf1(" %.2f ms = %.3f x OctoMap, %.2f x grid", r->medianSeconds() * 1e3, *o, *g) +
+              printf1(" (CPU time: %.3f x, %.2f x)", o_cpu.value_or(0), g_cpu.value_or(0));
     if (*o <= kMaxTimeVsOctomap && *g <= kMaxTimeVsGrid3d)
       passing += std::string(passing.empty() ? "" : ", ") + mode;
   }
@@ -104,13 +107,27 @@ std::string similarityTarget(const std::vector<const RunResult*>& runs) {
   return verdict(pass) + name + ": " + detail;
 }
 
+/// Single-thread runs that lost the core to other processes: wall time is inflated.
+std::string noiseNote(const std::vector<const RunResult*>& runs) {
+  double worst = 1;
+  for (const RunResult* r : runs)
+    if (r->threads == 1) worst = std::min(worst, r->cpuPerWall());
+  if (worst >= kMinCpuPerWall) return "";
+  return printf1(
+      "NOTE the machine was busy: a single-thread run got only %.2f of a core (CPU/wall); "
+      "wall-clock times are inflated, compare the CPU-time ratios or re-run",
+      worst);
+}
+
 }  // namespace
 
 std::vector<std::string> checkTargets(const std::vector<RunResult>& runs,
                                       const std::string& dataset) {
   const std::vector<const RunResult*> ds_runs = runsOf(runs, dataset);
-  return {speedTarget(runs, dataset), memoryTarget(ds_runs), threadTarget(runs, ds_runs),
-          similarityTarget(ds_runs)};
+  std::vector<std::string> lines = {speedTarget(runs, dataset), memoryTarget(ds_runs),
+                                    threadTarget(runs, ds_runs), similarityTarget(ds_runs)};
+  if (std::string note = noiseNote(ds_runs); !note.empty()) lines.push_back(note);
+  return lines;
 }
 
 }  // namespace ndtom::bench

@@ -15,8 +15,11 @@ inline constexpr double kMaxTimeVsGrid3d = 1.5;      ///< NDT-OM ≤ 1.5 × COcc
 inline constexpr double kMaxBytesPerCell = 64;       ///< index included
 inline constexpr double kMinTwoThreadSpeedup = 1.6;  ///< 2 threads vs 1, same map bytes
 inline constexpr double kMinSimilarity = 0.99;       ///< every speed-up vs the exact path
+/// Below this CPU/wall share a single-thread run was preempted (a NOTE is printed).
+inline constexpr double kMinCpuPerWall = 0.9;
 
-/// One line per target: "PASS|FAIL|SKIP <target>: <figures>".
+/// One line per target: "PASS|FAIL|SKIP <target>: <figures>"; the verdicts use wall-clock
+/// medians. A last "NOTE ..." line if the machine was busy during single-thread runs.
 std::vector<std::string> checkTargets(const std::vector<RunResult>& runs,
                                       const std::string& dataset);
 
