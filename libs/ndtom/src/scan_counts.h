@@ -129,21 +129,26 @@ class CountingWalker {
     local_[0] = c.x & mask;
     local_[1] = c.y & mask;
     local_[2] = c.z & mask;
+    offset_ = offsetInBlock(c);
   }
 
   template <int Axis>
   void move(int32_t step) {
+    constexpr int kShift = Axis * kBlockLog2;  // x fastest, as offsetInBlock
     local_[Axis] += step;
-    if (uint32_t(local_[Axis]) >= uint32_t(kBlockEdge)) {  // left the block
-      local_[Axis] &= kBlockEdge - 1;
-      block_[Axis] += step;
-      block_counts_ = &counts_->blockAt(block_);
+    if (uint32_t(local_[Axis]) < uint32_t(kBlockEdge)) {
+      offset_ += step * (1 << kShift);
+      return;
     }
+    // Left the block: wrap to the other side of the next one.
+    local_[Axis] &= kBlockEdge - 1;
+    offset_ = (local_[2] << (2 * kBlockLog2)) | (local_[1] << kBlockLog2) | local_[0];
+    block_[Axis] += step;
+    block_counts_ = &counts_->blockAt(block_);
   }
 
   bool visit() {
-    block_counts_->count[(local_[2] << (2 * kBlockLog2)) | (local_[1] << kBlockLog2) | local_[0]] +=
-        weight_;
+    block_counts_->count[offset_] += weight_;
     ++visits_;
     return true;
   }
@@ -153,6 +158,7 @@ class CountingWalker {
   CountBlock* block_counts_ = nullptr;
   CellIndex block_;
   int32_t local_[3] = {0, 0, 0};
+  int32_t offset_ = 0;  ///< of the current cell in its block
   uint32_t weight_ = 1;
   size_t visits_ = 0;
 };

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 
 #include "ndtom/cell_index.h"
@@ -108,24 +109,36 @@ Walker walkRay(const GridGeometry& geometry, const Eigen::Vector3d& from, const 
   const int32_t lx = last.x, ly = last.y, lz = last.z;
   const double r = geometry.resolution();
 
+  // Each step moves one axis one cell towards `last`, so the walk ends after exactly this
+  // many steps; counting them is cheaper than comparing the cell with `last` every time.
+  auto stepsLeft = [&] {
+    return int64_t(std::abs(int64_t(lx) - x)) + std::abs(int64_t(ly) - y) +
+           std::abs(int64_t(lz) - z);
+  };
+  int64_t remaining = stepsLeft();
+
   for (;;) {
     if (!walker.visit()) return walker;
-    const double t = std::min(tx, std::min(ty, tz));
-    if (!(t <= 1.0)) return walker;  // the segment ends in this cell (or rounding did)
-    // Branches beat branch-free selection here on real CPUs (measured: 2x).
+    // Branches beat branch-free selection here on real CPUs (measured: 2x). Each branch
+    // guards against rounding taking the walk past the end of the segment.
     if (tx < ty && tx < tz) {
+      if (!(tx <= 1.0)) return walker;
       x += sx;
       walker.template move<0>(sx);
       tx = crossingTime(double(x + ux) * r, fx, ix);
     } else if (ty < tx && ty < tz) {
+      if (!(ty <= 1.0)) return walker;
       y += sy;
       walker.template move<1>(sy);
       ty = crossingTime(double(y + uy) * r, fy, iy);
     } else if (tz < tx && tz < ty) {
+      if (!(tz <= 1.0)) return walker;
       z += sz;
       walker.template move<2>(sz);
       tz = crossingTime(double(z + uz) * r, fz, iz);
     } else {  // through an edge or a corner: up-steps first, then the down-steps
+      const double t = std::min(tx, std::min(ty, tz));
+      if (!(t <= 1.0)) return walker;
       cell[0] = x, cell[1] = y, cell[2] = z;
       t_next[0] = tx, t_next[1] = ty, t_next[2] = tz;
       bool crossing[3], moved_up = false, down_pending = false;
@@ -153,8 +166,9 @@ Walker walkRay(const GridGeometry& geometry, const Eigen::Vector3d& from, const 
       }
       x = cell[0], y = cell[1], z = cell[2];
       tx = t_next[0], ty = t_next[1], tz = t_next[2];
+      remaining = stepsLeft() + 1;  // the decrement below applies to the single steps only
     }
-    if (x == lx && y == ly && z == lz) return walker;
+    if (--remaining <= 0) return walker;
   }
 }
 
