@@ -4,6 +4,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <random>
+#include <set>
 
 #include "ndtom/gaussian_lookup.h"
 #include "synthetic_room.h"
@@ -104,4 +106,37 @@ TEST(GaussianLookup, EmptyMap) {
   const GaussianLookup lookup{NdtMap{}};
   EXPECT_TRUE(lookup.empty());
   EXPECT_EQ(lookup.findAt(Vector3d::Zero()), nullptr);
+}
+
+TEST(GaussianLookup, ForEachAroundVisitsExactlyTheNeighbourCellsGaussians) {
+  // Every cell of a 20³ region around the origin (negative indices, block edges) holds a
+  // Gaussian or not at random; the 27-cell walk must agree with 27 single lookups.
+  ndtom::MapOptions options;
+  options.resolution = 1.0;
+  options.occupancy.enabled = false;
+  NdtMap map(options);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.05, 0.95);
+  std::vector<Vector3d> points;
+  for (int x = -10; x < 10; ++x)
+    for (int y = -10; y < 10; ++y)
+      for (int z = -10; z < 10; ++z)
+        if (rng() % 3 == 0)
+          for (int k = 0; k < 4; ++k) points.emplace_back(x + u(rng), y + u(rng), z + u(rng));
+  map.insertScan(points, Vector3d(0.5, 0.5, 0.5));
+  const GaussianLookup lookup(map);
+  ASSERT_GT(lookup.size(), 1000u);
+  for (int x = -11; x <= 10; ++x)
+    for (int y = -11; y <= 10; y += 3)
+      for (int z = -11; z <= 10; z += 4) {
+        std::set<const ndtom::PreparedGaussian*> walked, expected;
+        lookup.forEachAround({x, y, z}, [&](const ndtom::PreparedGaussian& g) {
+          EXPECT_TRUE(walked.insert(&g).second) << "visited twice";
+        });
+        for (int dx = -1; dx <= 1; ++dx)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -1; dz <= 1; ++dz)
+              if (const auto* g = lookup.find({x + dx, y + dy, z + dz})) expected.insert(g);
+        EXPECT_EQ(walked, expected) << x << "," << y << "," << z;
+      }
 }

@@ -30,19 +30,21 @@ GaussianLookup::GaussianLookup(const NdtMap& map) : geometry_(map.geometry()) {
                       /*regularized=*/true);
   std::sort(gaussians_.begin(), gaussians_.end(),
             [](const PreparedGaussian& a, const PreparedGaussian& b) { return a.cell < b.cell; });
-  by_cell_.reserve(gaussians_.size());
   std::vector<Eigen::Vector3d> means;
   means.reserve(gaussians_.size());
   for (uint32_t i = 0; i < gaussians_.size(); ++i) {
-    by_cell_.emplace(gaussians_[i].cell, i);
+    const CellIndex& cell = gaussians_[i].cell;
+    by_cell_.getOrCreate(blockOf(cell)).index[offsetInBlock(cell)] = i;
     means.push_back(gaussians_[i].mean);
   }
   means_ = PointKdTree(means);
 }
 
 const PreparedGaussian* GaussianLookup::find(const CellIndex& cell) const {
-  const auto it = by_cell_.find(cell);
-  return it == by_cell_.end() ? nullptr : &gaussians_[it->second];
+  const IndexBlock* block = by_cell_.find(blockOf(cell));
+  if (!block) return nullptr;
+  const uint32_t i = block->index[offsetInBlock(cell)];
+  return i == kNone ? nullptr : &gaussians_[i];
 }
 
 const PreparedGaussian* GaussianLookup::findAt(const Eigen::Vector3d& point) const {

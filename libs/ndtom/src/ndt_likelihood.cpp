@@ -1,6 +1,7 @@
 #include "ndtom/ndt_likelihood.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -29,14 +30,12 @@ double bestGaussianValue(const GaussianLookup& lookup, const Eigen::Vector3d& po
   if (!lookup.geometry().inRange(point)) return 0.0;
   const CellIndex home = lookup.geometry().cellOf(point);
   if (!search_neighbours) return valueOf(lookup.find(home), point);
-  double best = 0.0;
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const CellIndex c{home.x + dx, home.y + dy, home.z + dz};
-        best = std::max(best, valueOf(lookup.find(c), point));
-      }
-  return best;
+  // The best value is the smallest Mahalanobis distance: one exp() per point.
+  double best_d2 = std::numeric_limits<double>::infinity();
+  lookup.forEachAround(home, [&](const PreparedGaussian& g) {
+    best_d2 = std::min(best_d2, squaredMahalanobis(g, point));
+  });
+  return std::exp(-0.5 * best_d2);
 }
 
 ScanLikelihood scanLikelihood(const GaussianLookup& lookup,

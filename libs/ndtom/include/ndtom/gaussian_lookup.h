@@ -6,9 +6,11 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <unordered_map>
+#include <algorithm>
+#include <array>
 #include <vector>
 
+#include "ndtom/block_grid.h"
 #include "ndtom/cell_index.h"
 #include "ndtom/ndt_map.h"
 #include "ndtom/point_kdtree.h"
@@ -44,16 +46,51 @@ class GaussianLookup {
   const PreparedGaussian* find(const CellIndex& cell) const;
   /// The Gaussian of the cell holding `point`; nullptr if none or the point is out of range.
   const PreparedGaussian* findAt(const Eigen::Vector3d& point) const;
+  /// f(const PreparedGaussian&) for each Gaussian in the 3×3×3 cells centred on `centre`
+  /// (in no particular order). One block lookup per block touched, usually one or two.
+  template <class F>
+  void forEachAround(const CellIndex& centre, F&& f) const;
 
   /// k-d tree over the means; its indices are those of gaussians().
   const PointKdTree& means() const { return means_; }
 
  private:
+  static constexpr uint32_t kNone = UINT32_MAX;
+  /// Indices into gaussians_ of the cells of one block, kNone where there is no Gaussian.
+  struct IndexBlock {
+    std::array<uint32_t, kBlockCells> index;
+    IndexBlock() { index.fill(kNone); }
+  };
+
   GridGeometry geometry_;
   std::vector<PreparedGaussian> gaussians_;
-  std::unordered_map<CellIndex, uint32_t, CellIndexHash> by_cell_;
+  BlockGrid<IndexBlock> by_cell_;  // blocks, not a hash per cell: neighbours share a block
   PointKdTree means_;
 };
+
+template <class F>
+void GaussianLookup::forEachAround(const CellIndex& centre, F&& f) const {
+  const CellIndex lo{centre.x - 1, centre.y - 1, centre.z - 1};
+  const CellIndex hi{centre.x + 1, centre.y + 1, centre.z + 1};
+  const CellIndex block_lo = blockOf(lo), block_hi = blockOf(hi);
+  for (int32_t bz = block_lo.z; bz <= block_hi.z; ++bz)
+    for (int32_t by = block_lo.y; by <= block_hi.y; ++by)
+      for (int32_t bx = block_lo.x; bx <= block_hi.x; ++bx) {
+        const IndexBlock* block = by_cell_.find({bx, by, bz});
+        if (!block) continue;
+        // The part of the neighbourhood inside this block.
+        const CellIndex first = cellOf({bx, by, bz}, 0);
+        const int32_t x0 = std::max(lo.x, first.x), x1 = std::min(hi.x, first.x + kBlockEdge - 1);
+        const int32_t y0 = std::max(lo.y, first.y), y1 = std::min(hi.y, first.y + kBlockEdge - 1);
+        const int32_t z0 = std::max(lo.z, first.z), z1 = std::min(hi.z, first.z + kBlockEdge - 1);
+        for (int32_t z = z0; z <= z1; ++z)
+          for (int32_t y = y0; y <= y1; ++y)
+            for (int32_t x = x0; x <= x1; ++x) {
+              const uint32_t i = block->index[offsetInBlock({x, y, z})];
+              if (i != kNone) f(gaussians_[i]);
+            }
+      }
+}
 
 /// Squared Mahalanobis distance of `point` to `g` (its regularised covariance).
 inline double squaredMahalanobis(const PreparedGaussian& g, const Eigen::Vector3d& point) {
