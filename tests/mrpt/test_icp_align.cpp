@@ -7,6 +7,7 @@
 #include <mrpt/slam/CICP.h>
 
 #include <Eigen/Geometry>
+#include <iostream>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 #include "ndtom_io/pcd_reader.h"
@@ -93,6 +94,9 @@ TEST(IcpAlign, RecoversAKnownPerturbationOfARealScan) {
     EXPECT_LT(error.translation().norm(), 0.03) << "start " << delta.asString();
     EXPECT_LT(angle / deg, 0.3) << "start " << delta.asString();
     EXPECT_GT(info.goodness, 0.5);
+    std::cout << "[ icp      ] start " << delta.asString() << ": error "
+              << 100 * error.translation().norm() << " cm, " << angle / deg << " deg, "
+              << info.nIterations << " iterations\n";
   }
 }
 

@@ -153,3 +153,25 @@ TEST(Serialization, UnknownVersionAndDamagedDataThrow) {
   truncated.resize(bytes.size() / 2);
   EXPECT_THROW(readBack(truncated), std::exception);
 }
+
+TEST(Serialization, CoarsenedCopyIsTheCoresMultiResolutionMap) {
+  const auto map = sampleMap();
+  const auto coarse = map->getCoarsened(3);
+  ASSERT_TRUE(coarse);
+  EXPECT_EQ(ndtom::encodeMap(coarse->ndtMap()), ndtom::encodeMap(map->ndtMap().coarsened(3)));
+  EXPECT_DOUBLE_EQ(coarse->insertionOptions.resolution, 0.9);
+  EXPECT_EQ(coarse->insertionOptions.p_hit, map->insertionOptions.p_hit);
+  EXPECT_TRUE(coarse->likelihoodOptions == map->likelihoodOptions);
+  EXPECT_TRUE(coarse->renderOptions == map->renderOptions);
+  EXPECT_LT(coarse->ndtMap().numCells(), map->ndtMap().numCells());
+  // Points are conserved by the exact merge.
+  uint64_t fine_points = 0, coarse_points = 0;
+  map->ndtMap().forEachCell(
+      [&](const ndtom::CellView& c) { fine_points += c.stats ? c.stats->n : 0; });
+  coarse->ndtMap().forEachCell(
+      [&](const ndtom::CellView& c) { coarse_points += c.stats ? c.stats->n : 0; });
+  EXPECT_EQ(coarse_points, fine_points);
+  // It is a working map: more data can go in at the coarse resolution.
+  coarse->insertPoints(randomScan(21), Vector3d::Zero());
+  EXPECT_THROW(map->getCoarsened(0), std::exception);
+}

@@ -3,12 +3,15 @@
 // enableSaveAs3DObject is honoured, and saveMetricMapRepresentationToFile writes a map file
 // and a scene that load back.
 #include <gtest/gtest.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/opengl/CFBORender.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/opengl/CSetOfTriangles.h>
 #include <mrpt/system/filesystem.h>
 
 #include <Eigen/LU>
+#include <array>
 #include <random>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
@@ -32,6 +35,10 @@ CNDTOccupancyMap::Ptr sampleMap() {
   for (int i = 0; i < 30; ++i) points.emplace_back(-2.25 + 0.05 * n(rng), 1.25, 0.75);
   map->insertPoints(points, Vector3d(0.5, 0.5, 5.0));
   return map;
+}
+
+std::array<uint8_t, 3> pixel(const mrpt::img::CImage& image, unsigned x, unsigned y) {
+  return {image.at<uint8_t>(x, y, 0), image.at<uint8_t>(x, y, 1), image.at<uint8_t>(x, y, 2)};
 }
 
 std::shared_ptr<mrpt::opengl::CSetOfTriangles> meshOf(mrpt::opengl::CSetOfObjects& objs) {
@@ -147,4 +154,47 @@ TEST(Visualization, SaveRepresentationWritesMapAndScene) {
                 mrpt_ndtom::trianglesPerEllipsoid(map->renderOptions.subdivisions));
   std::remove((prefix + ".ndtom").c_str());
   std::remove((prefix + ".3Dscene").c_str());
+}
+
+TEST(Visualization, RendersOffscreen) {
+  // The saved scene drawn by MRPT's own offscreen renderer (EGL, no display): the ellipsoids
+  // cover part of the picture, coloured by height.
+  const auto map = sampleMap();
+  mrpt::opengl::COpenGLScene scene;
+  auto objects = mrpt::opengl::CSetOfObjects::Create();
+  map->getVisualizationInto(*objects);
+  scene.insert(objects);
+  // CFBORender (MRPT 2.5.8) draws from its own camera, not the viewport's.
+  mrpt::opengl::CCamera camera;
+  camera.setPointingAt(0.5f, 0.5f, 0.2f);  // the floor's four flat Gaussians
+  camera.setZoomDistance(3);
+  camera.setElevationDegrees(35);
+  camera.setAzimuthDegrees(-60);
+
+  mrpt::img::CImage image;
+  try {
+    mrpt::opengl::CFBORender renderer(mrpt::opengl::CFBORender::Parameters(320, 240));
+    renderer.setCamera(scene, camera);
+    renderer.render_RGB(scene, image);
+  } catch (const std::exception& e) {
+    GTEST_SKIP() << "no offscreen OpenGL here: " << e.what();
+  }
+  ASSERT_EQ(image.getWidth(), 320u);
+  if (const char* out = std::getenv("NDTOM_RENDER_OUT")) image.saveToFile(out);
+  const auto background = pixel(image, 0, 0);  // a corner: no map there
+  size_t drawn = 0;
+  for (unsigned y = 0; y < 240; ++y)
+    for (unsigned x = 0; x < 320; ++x) drawn += pixel(image, x, y) != background;
+  EXPECT_GT(drawn, 320u * 240u / 100) << "at least 1% of the pixels show the map";
+
+  // An empty map draws nothing but the background.
+  mrpt::opengl::COpenGLScene empty_scene;
+  mrpt::img::CImage empty_image;
+  mrpt::opengl::CFBORender empty_renderer(mrpt::opengl::CFBORender::Parameters(320, 240));
+  empty_renderer.setCamera(empty_scene, camera);
+  empty_renderer.render_RGB(empty_scene, empty_image);
+  size_t empty_drawn = 0;
+  for (unsigned y = 0; y < 240; ++y)
+    for (unsigned x = 0; x < 320; ++x) empty_drawn += pixel(empty_image, x, y) != background;
+  EXPECT_EQ(empty_drawn, 0u);
 }

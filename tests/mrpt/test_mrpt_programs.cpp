@@ -1,0 +1,245 @@
+// MRPT's own programs (/usr/bin, Debian's mrpt-apps) run with the plugin and the configs in
+// share/mrpt; the test checks what they wrote:
+//  - observations2map (LD_PRELOAD): the map file equals the map this library builds from the
+//    same .simplemap and .ini in-process;
+//  - pf-localization (LD_PRELOAD, 3D particles): ends where MRPT's own occupancy-grid demo on
+//    the same data ends;
+//  - rbpf-slam (LD_PRELOAD) on a cut of the Málaga loop: runs, writes its NDT map, and its path
+//    stays near MRPT's reference trajectory of that log;
+//  - rawlog-edit -p, RawLogViewer -l and SceneViewer3D -l (under Xvfb) load the plugin.
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CSetOfTriangles.h>
+#include <mrpt/poses/CPose3DPDF.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <regex>
+#include <sstream>
+
+#include "mrpt_ndtom/CNDTOccupancyMap.h"
+#include "ndtom/map_io.h"
+
+namespace fs = std::filesystem;
+using mrpt_ndtom::CNDTOccupancyMap;
+
+namespace {
+
+const std::string kPlugin = NDTOM_PLUGIN_PATH;
+const std::string kShare = std::string(NDTOM_SOURCE_DIR) + "/share/mrpt";
+const std::string kDatasets = MRPT_DATASETS;
+
+// A fresh working folder per test, removed afterwards.
+struct WorkDir {
+  fs::path path;
+  WorkDir() {
+    std::string tmpl = (fs::temp_directory_path() / "ndtom_programs_XXXXXX").string();
+    path = mkdtemp(tmpl.data());
+  }
+  ~WorkDir() { fs::remove_all(path); }
+};
+
+// Runs `command` in `dir` with no stdin (MRPT programs wait for a key after an error);
+// returns the exit status and leaves stdout+stderr in `log`.
+int run(const std::string& command, const fs::path& dir, const fs::path& log) {
+  const std::string line =
+      "cd '" + dir.string() + "' && " + command + " </dev/null > '" + log.string() + "' 2>&1";
+  const int status = std::system(line.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string preload() {
+  return "env LD_PRELOAD='" + kPlugin + "' ";
+}
+
+std::string readFile(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The numbers of the last "PDF estimation: (...)" line of a pf-localization log.
+std::vector<double> lastEstimate(const std::string& log) {
+  const std::regex line(R"(PDF estimation: \((?:x,y,z,yaw,pitch,roll\)=\()?([^)]*)\))");
+  std::vector<double> values;
+  for (auto it = std::sregex_iterator(log.begin(), log.end(), line); it != std::sregex_iterator();
+       ++it) {
+    values.clear();
+    std::string fields = (*it)[1];
+    std::replace(fields.begin(), fields.end(), ',', ' ');
+    std::istringstream s(fields);
+    for (std::string f; s >> f;) values.push_back(std::stod(f));  // "4.85deg" -> 4.85
+  }
+  return values;
+}
+
+// `text` with the value of each `key=` line replaced (keys at the start of a line).
+std::string withValues(std::string text, const std::map<std::string, std::string>& values) {
+  for (const auto& [key, value] : values)
+    text = std::regex_replace(text, std::regex("(^|\n)" + key + "\\s*=[^\n]*"),
+                              "$1" + key + " = " + value);
+  return text;
+}
+
+}  // namespace
+
+TEST(MrptPrograms, Observations2mapBuildsTheSameMapAsTheLibrary) {
+  WorkDir dir;
+  const std::string ini = kShare + "/observations2map_ndtom.ini";
+  const std::string simplemap = kDatasets + "/malaga-cs-fac-building.simplemap.gz";
+  const int rc =
+      run("timeout 300 " + preload() + "observations2map '" + ini + "' '" + simplemap + "' malaga",
+          dir.path, dir.path / "log.txt");
+  ASSERT_EQ(rc, 0) << readFile(dir.path / "log.txt");
+  const fs::path written = dir.path / "malaga_mrpt_ndtom__CNDTOccupancyMap_00.ndtom";
+  ASSERT_TRUE(fs::exists(written)) << readFile(dir.path / "log.txt");
+  const ndtom::NdtMap from_program = ndtom::loadMap(written.string());
+
+  // The same in-process: same .ini section, same data, MRPT's own loader.
+  mrpt::maps::TSetOfMetricMapInitializers inits;
+  inits.loadFromConfigFile(mrpt::config::CConfigFile(ini), "MappingApplication");
+  mrpt::maps::CMultiMetricMap multi;
+  multi.setListOfMaps(inits);
+  mrpt::maps::CSimpleMap sm;
+  ASSERT_TRUE(sm.loadFromFile(simplemap));
+  multi.loadFromSimpleMap(sm);
+  const auto map = multi.mapByClass<CNDTOccupancyMap>();
+  ASSERT_TRUE(map);
+  EXPECT_EQ(ndtom::encodeMap(from_program), ndtom::encodeMap(map->ndtMap()));
+  EXPECT_GT(from_program.numGaussians(), 1000u);
+
+  mrpt::opengl::COpenGLScene scene;
+  ASSERT_TRUE(
+      scene.loadFromFile((dir.path / "malaga_mrpt_ndtom__CNDTOccupancyMap_00.3Dscene").string()));
+  const auto mesh = scene.getByClass<mrpt::opengl::CSetOfTriangles>();
+  ASSERT_TRUE(mesh);
+  size_t drawable = 0;  // occupied cells with a Gaussian
+  from_program.forEachCell([&](const ndtom::CellView& c) {
+    drawable += c.logodds > 0 && c.stats && c.stats->hasGaussian();
+  });
+  EXPECT_EQ(mesh->getTrianglesCount(),
+            std::min<size_t>(drawable, map->renderOptions.max_ellipsoids) *
+                mrpt_ndtom::trianglesPerEllipsoid(map->renderOptions.subdivisions));
+}
+
+TEST(MrptPrograms, PfLocalizationEndsWhereMrptsGridDemoEnds) {
+  WorkDir dir;
+  // Reference: MRPT's own demo (2D particles, occupancy grid), headless, on the same data.
+  const std::string demo =
+      readFile("/usr/share/mrpt/config_files/pf-localization/localization_demo.ini");
+  ASSERT_FALSE(demo.empty()) << "needs Debian's mrpt-common";
+  std::ofstream(dir.path / "grid.ini")
+      << withValues(demo, {{"map_file", kDatasets + "/localization_demo.simplemap.gz"},
+                           {"rawlog_file", kDatasets + "/localization_demo.rawlog"},
+                           {"logOutput_dir", "LOG_GRID"},
+                           {"3DSceneFrequency", "-1"},
+                           {"SHOW_PROGRESS_3D_REAL_TIME", "false"}});
+  ASSERT_EQ(run("timeout 300 pf-localization grid.ini", dir.path, dir.path / "grid.log"), 0)
+      << readFile(dir.path / "grid.log");
+  const auto grid = lastEstimate(readFile(dir.path / "grid.log"));  // x y phi
+  ASSERT_EQ(grid.size(), 3u);
+
+  const std::string ini = kShare + "/pf-localization_ndtom.ini";
+  ASSERT_EQ(run("timeout 300 " + preload() + "pf-localization '" + ini + "'", dir.path,
+                dir.path / "ndt.log"),
+            0)
+      << readFile(dir.path / "ndt.log");
+  const auto ndt = lastEstimate(readFile(dir.path / "ndt.log"));  // x y z yaw pitch roll
+  ASSERT_EQ(ndt.size(), 6u);
+  EXPECT_LT(std::hypot(ndt[0] - grid[0], ndt[1] - grid[1]), 0.3);
+  EXPECT_LT(std::abs(ndt[3] - grid[2]), 3.0) << "degrees";
+  // The map it localized in, as the program saved it.
+  const fs::path map_file =
+      dir.path / "LOG_PF_NDTOM_000_0005000" / "map_mrpt_ndtom__CNDTOccupancyMap_00.ndtom";
+  ASSERT_TRUE(fs::exists(map_file));
+  EXPECT_GT(ndtom::loadMap(map_file.string()).numGaussians(), 500u);
+}
+
+TEST(MrptPrograms, RbpfSlamMapsWithTheNdtMapInItsParticles) {
+  WorkDir dir;
+  const std::string rawlog = kDatasets + "/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog";
+  // The first 60 action/observation pairs (MRPT's own tool cuts the log).
+  ASSERT_EQ(run("timeout 60 rawlog-edit --cut --from-index 0 --to-index 119 -i '" + rawlog +
+                    "' -o short.rawlog",
+                dir.path, dir.path / "cut.log"),
+            0)
+      << readFile(dir.path / "cut.log");
+  std::ofstream(dir.path / "rbpf.ini")
+      << withValues(readFile(kShare + "/rbpf-slam_ndtom.ini"), {{"rawlog_file", "short.rawlog"}});
+  ASSERT_EQ(run("timeout 600 " + preload() + "rbpf-slam rbpf.ini", dir.path, dir.path / "rbpf.log"),
+            0)
+      << readFile(dir.path / "rbpf.log");
+
+  const fs::path out = dir.path / "LOG_RBPF_NDTOM";
+  const fs::path map_file = out / "finalMap_mrpt_ndtom__CNDTOccupancyMap_00.ndtom";
+  ASSERT_TRUE(fs::exists(map_file));
+  EXPECT_GT(ndtom::loadMap(map_file.string()).numGaussians(), 300u);
+
+  // Its last pose against MRPT's reference trajectory of this log (the Málaga simplemap,
+  // whose frames carry the same time stamps).
+  mrpt::maps::CSimpleMap reference;
+  ASSERT_TRUE(reference.loadFromFile(kDatasets + "/malaga-cs-fac-building.simplemap.gz"));
+  std::map<long, mrpt::poses::CPose3D> by_time;  // time stamps in ms
+  for (const auto& [pose, frame] : reference)
+    by_time[std::lround(mrpt::Clock::toDouble((*frame->begin())->timestamp) * 1e3)] =
+        pose->getMeanVal();
+  std::ifstream path(out / "log_estimated_path.txt");
+  std::string line;
+  double worst = 0;
+  size_t compared = 0;
+  while (std::getline(path, line)) {
+    std::istringstream s(line);
+    double step, x, y, z, yaw, pitch, roll, t;
+    if (!(s >> step >> x >> y >> z >> yaw >> pitch >> roll >> t)) continue;
+    const auto it = by_time.find(std::lround(t * 1e3));
+    if (it == by_time.end()) continue;
+    worst = std::max(worst, std::hypot(x - it->second.x(), y - it->second.y()));
+    ++compared;
+  }
+  EXPECT_GE(compared, 10u) << "reference frames in the cut";
+  EXPECT_LT(worst, 1.0) << "metres from the reference trajectory";
+  std::cout << "[ rbpf     ] " << compared << " poses compared, worst " << worst << " m\n";
+}
+
+TEST(MrptPrograms, RawlogEditLoadsThePlugin) {
+  WorkDir dir;
+  const std::string args = " --info -i '" + kDatasets + "/tests_rgbd.rawlog'";
+  ASSERT_EQ(
+      run("timeout 60 rawlog-edit -p '" + kPlugin + "'" + args, dir.path, dir.path / "ok.log"), 0);
+  EXPECT_EQ(readFile(dir.path / "ok.log").find("Error loading"), std::string::npos);
+  // The check can fail: a missing library is reported.
+  run("timeout 60 rawlog-edit -p /nonexistent/libnothing.so" + args, dir.path,
+      dir.path / "bad.log");
+  EXPECT_NE(readFile(dir.path / "bad.log").find("Error loading"), std::string::npos);
+}
+
+TEST(MrptPrograms, GuiProgramsStartWithThePluginUnderXvfb) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "no xvfb-run";
+  WorkDir dir;
+  // A scene written by the map, for SceneViewer3D.
+  CNDTOccupancyMap map(0.5);
+  map.insertPoints({{2, 0, 0}, {2, 0.1, 0.1}, {2, 0.2, 0}, {2.1, 0, 0.2}}, {0, 0, 0});
+  map.saveMetricMapRepresentationToFile((dir.path / "scene").string());
+  const std::vector<std::pair<std::string, std::string>> programs = {
+      {"RawLogViewer", "'" + kDatasets + "/tests_rgbd.rawlog'"},
+      {"SceneViewer3D", "scene.3Dscene"},
+  };
+  for (const auto& [program, file] : programs) {
+    const fs::path log = dir.path / (program + ".log");
+    // Still running when the timeout stops it (124): it started and did not crash.
+    const int rc =
+        run("timeout 6 xvfb-run -a stdbuf -oL -eL " + program + " -l '" + kPlugin + "' " + file,
+            dir.path, log);
+    const std::string text = readFile(log);
+    EXPECT_EQ(rc, 124) << program << ":\n" << text;
+    EXPECT_NE(text.find("Loading plugin libraries: " + kPlugin), std::string::npos) << text;
+    EXPECT_EQ(text.find("Error loading"), std::string::npos) << text;
+  }
+}
