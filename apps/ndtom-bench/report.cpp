@@ -18,8 +18,14 @@ std::string format(const char* fmt, double v) {
   return buf;
 }
 
-std::string ratioText(const std::optional<double>& r) {
-  return r ? format("%.3f", *r) : "-";
+/// "wall (CPU)" ratios for single-thread runs, wall only for threaded ones.
+std::string ratioText(const std::vector<RunResult>& runs, const RunResult& r,
+                      const std::string& other) {
+  const auto wall = timeRatio(runs, r, other);
+  if (!wall) return "-";
+  const auto cpu = timeRatio(runs, r, other, true);
+  if (r.threads > 1 || !cpu) return format("%.3f", *wall);
+  return format("%.3f", *wall) + format(" (%.3f)", *cpu);
 }
 
 std::string optionalText(const std::optional<double>& v) {
@@ -46,7 +52,8 @@ std::string resultsTable(const std::vector<RunResult>& runs) {
   std::string out =
       "| dataset | system | res (m) | median ms/scan | p95 ms/scan | median CPU ms | Mpoints/s | "
       "Mvisits/s | "
-      "CPU/wall | peak RSS Δ (MB) | map (MB) | B/cell | cells | t/t_octomap | t/t_grid3d |\n"
+      "CPU/wall | peak RSS Δ (MB) | map (MB) | B/cell | cells | t/t_octomap wall (CPU) | "
+      "t/t_grid3d wall (CPU) |\n"
       "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const RunResult& r : runs) {
     out += "| " + r.dataset + " | " + r.label + " | " + format("%.2f", r.resolution) + " | " +
@@ -57,8 +64,7 @@ std::string resultsTable(const std::vector<RunResult>& runs) {
            " | " + (r.peak_rss_valid ? format("%.1f", double(r.peak_rss_delta) / 1e6) : "n/a") +
            " | " + format("%.1f", double(r.map.memory_bytes) / 1e6) + " | " +
            format("%.1f", r.bytesPerCell()) + " | " + std::to_string(r.map.cells) + " | " +
-           ratioText(timeRatio(runs, r, kOctomap)) + " | " +
-           ratioText(timeRatio(runs, r, kGrid3d)) + " |\n";
+           ratioText(runs, r, kOctomap) + " | " + ratioText(runs, r, kGrid3d) + " |\n";
   }
   return out;
 }

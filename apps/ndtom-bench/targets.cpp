@@ -14,7 +14,7 @@ std::string verdict(bool pass) {
 }
 
 std::string printf1(const char* fmt, double a, double b = 0, double c = 0) {
-  char buf[160];
+  char buf[320];
   std::snprintf(buf, sizeof buf, fmt, a, b, c);
   return buf;
 }
@@ -32,13 +32,14 @@ std::string speedTarget(const std::vector<RunResult>& runs, const std::string& d
   for (const char* mode : {"ndtom-point/t1", "ndtom-hitcell/t1"}) {
     const RunResult* r = findRun(runs, ds, kTargetResolution, mode);
     if (!r) continue;
-    const auto o = timeRatio(runs, *r, "octomap"), g = timeRatio(runs, *r, "mrpt-grid3d");
+    const auto o = timeRatio(runs, *r, "octomap", true);
+    const auto g = timeRatio(runs, *r, "mrpt-grid3d", true);
     if (!o || !g) return "SKIP " + name + ": needs octomap and mrpt-grid3d at 0.2 m";
-    const auto o_cpu = timeRatio(runs, *r, "octomap", true);
-    const auto g_cpu = timeRatio(runs, *r, "mrpt-grid3d", true);
+    const auto o_wall = timeRatio(runs, *r, "octomap"), g_wall = timeRatio(runs, *r, "mrpt-grid3d");
     detail += std::string(detail.empty() ? "" : "; ") + mode +
-              printf1(" %.2f ms = %.3f x OctoMap, %.2f x grid", r->medianSeconds() * 1e3, *o, *g) +
-              printf1(" (CPU time: %.3f x, %.2f x)", o_cpu.value_or(0), g_cpu.value_or(0));
+              printf1(" %.2f CPU ms/scan = %.3f x OctoMap, %.2f x grid",
+                      r->medianCpuSeconds() * 1e3, *o, *g) +
+              printf1(" (wall: %.3f x, %.2f x)", o_wall.value_or(0), g_wall.value_or(0));
     if (*o <= kMaxTimeVsOctomap && *g <= kMaxTimeVsGrid3d)
       passing += std::string(passing.empty() ? "" : ", ") + mode;
   }
@@ -53,9 +54,13 @@ std::string memoryTarget(const std::vector<const RunResult*>& runs) {
   for (const RunResult* r : runs)
     if (isNdtom(r->kind) && (!worst || r->bytesPerCell() > worst->bytesPerCell())) worst = r;
   if (!worst) return "SKIP " + name + ": no NDT-OM run";
+  std::string at_target;
+  for (const RunResult* r : runs)
+    if (r->label == "ndtom-point/t1" && r->resolution == kTargetResolution)
+      at_target = printf1("; %.1f B/cell at 0.2 m", r->bytesPerCell());
   return verdict(worst->bytesPerCell() <= kMaxBytesPerCell) + name + ": worst " +
          printf1("%.1f B/cell", worst->bytesPerCell()) + " (" + worst->label +
-         printf1(" at %.2f m)", worst->resolution);
+         printf1(" at %.2f m)", worst->resolution) + at_target;
 }
 
 std::string threadTarget(const std::vector<RunResult>& runs,
@@ -114,8 +119,8 @@ std::string noiseNote(const std::vector<const RunResult*>& runs) {
     if (r->threads == 1) worst = std::min(worst, r->cpuPerWall());
   if (worst >= kMinCpuPerWall) return "";
   return printf1(
-      "NOTE the machine was busy: a single-thread run got only %.2f of a core (CPU/wall); "
-      "wall-clock times are inflated, compare the CPU-time ratios or re-run",
+      "NOTE the machine was busy: a single-thread run got only %.2f of a core (CPU/wall): "
+      "wall-clock times and the thread target are unreliable, CPU times less so; re-run idle",
       worst);
 }
 

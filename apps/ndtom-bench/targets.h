@@ -18,8 +18,10 @@ inline constexpr double kMinSimilarity = 0.99;       ///< every speed-up vs the 
 /// Below this CPU/wall share a single-thread run was preempted (a NOTE is printed).
 inline constexpr double kMinCpuPerWall = 0.9;
 
-/// One line per target: "PASS|FAIL|SKIP <target>: <figures>"; the verdicts use wall-clock
-/// medians. A last "NOTE ..." line if the machine was busy during single-thread runs.
+/// One line per target: "PASS|FAIL|SKIP <target>: <figures>". Single-thread time verdicts
+/// use median process CPU time per scan (the wall time of an idle machine, and robust to other
+/// processes on a shared one; wall ratios are printed beside them); the thread target uses
+/// wall time. A last "NOTE ..." line if the machine was busy during single-thread runs.
 std::vector<std::string> checkTargets(const std::vector<RunResult>& runs,
                                       const std::string& dataset);
 
