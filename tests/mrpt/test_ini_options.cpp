@@ -5,6 +5,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <sstream>
 
@@ -224,4 +225,37 @@ TEST(IniOptions, ResolutionIsFixedOnceTheMapHoldsData) {
   map.insertionOptions.resolution = 1.0;  // allowed again after clear()
   map.insertPoints({{3, 0, 0}}, {0, 0, 0});
   EXPECT_EQ(map.ndtMap().options().resolution, 1.0);
+}
+
+TEST(IniOptions, GenericFlagsFromCreationOptsAreHonoured) {
+  const auto multi = multiMapFrom(
+      "[M]\nndtOccupancyMap_count=1\n[M_ndtOccupancyMap_00_creationOpts]\n"
+      "enableObservationInsertion=false\nenableObservationLikelihood=false\n",
+      "M");
+  const auto map = multi.mapByClass<CNDTOccupancyMap>();
+  ASSERT_TRUE(map);
+  mrpt::obs::CObservation2DRangeScan scan;
+  scan.aperture = 1.0f;
+  scan.resizeScan(3);
+  for (size_t i = 0; i < 3; ++i) {
+    scan.setScanRange(i, 2.0f);
+    scan.setScanRangeValidity(i, true);
+  }
+  EXPECT_FALSE(map->insertObservation(scan));
+  EXPECT_TRUE(map->isEmpty());
+  map->genericMapParams.enableObservationInsertion = true;
+  EXPECT_TRUE(map->insertObservation(scan));
+  EXPECT_FALSE(map->isEmpty());
+  EXPECT_FALSE(map->canComputeObservationLikelihood(scan)) << "likelihood disabled";
+  map->genericMapParams.enableObservationLikelihood = true;
+  EXPECT_TRUE(map->canComputeObservationLikelihood(scan));
+}
+
+TEST(IniOptions, AsStringDescribesTheMap) {
+  CNDTOccupancyMap map(0.25);
+  map.insertPoints({{2, 0, 0}, {2, 0.05, 0}, {2, 0.1, 0.05}}, {0, 0, 0});
+  const std::string text = map.asString();
+  EXPECT_NE(text.find("NDT-OM"), std::string::npos) << text;
+  EXPECT_NE(text.find("resolution 0.25 m"), std::string::npos) << text;
+  EXPECT_NE(text.find("1 Gaussians"), std::string::npos) << text;
 }

@@ -5,7 +5,8 @@
 // Supported: CObservation2DRangeScan, CObservation3DRangeScan (depth image unprojected with
 // its intrinsics and lens distortion exactly as MRPT's unprojectInto() does, or its stored
 // points), CObservationPointCloud, CObservationVelodyneScan.
-// The observation is only read (never modified), so concurrent calls on one are safe.
+// The observation is only read, so concurrent calls on one are safe; the exception is data
+// stored outside the rawlog, which MRPT's load() brings in first (as all MRPT maps do).
 #pragma once
 
 #include <mrpt/obs/CObservation.h>
