@@ -10,6 +10,7 @@ packages=(
   liboctomap-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth
+  libgl1-mesa-dri  # Mesa's software OpenGL, for ndtom-map's off-screen pictures (no GPU needed)
 )
 if [[ "${1:-}" == "--with-fuzz" ]]; then
   packages+=(clang libclang-rt-14-dev)

@@ -1,0 +1,25 @@
+// The kinds of input ndtom-map reads, and how the kind is told from the path.
+#pragma once
+
+#include <string>
+
+namespace ndtom::mapper {
+
+enum class InputFormat {
+  Auto,       ///< decide from the path (detectInputFormat)
+  Rawlog,     ///< MRPT .rawlog, either format (actions + sensory frames, or observations)
+  Simplemap,  ///< MRPT .simplemap / .simplemap.gz: keyframes with their poses
+  TumRgbd,    ///< TUM RGB-D sequence folder: depth/ + associations or ground truth
+  PcdFolder,  ///< folder of PCD scans + a pose file (KITTI poses.txt or TUM trajectory)
+};
+
+/// "rawlog", "simplemap", "tum", "pcd" (and "auto"); throws UsageError otherwise.
+InputFormat inputFormatFromName(const std::string& name);
+const char* inputFormatName(InputFormat format);
+
+/// The format of `path`: by extension for files (.rawlog[.gz], .simplemap[.gz]), by content
+/// for folders (associations.txt, depth.txt or groundtruth.txt: TUM; *.pcd files: PCD).
+/// Throws UsageError if the path does not exist or matches no format.
+InputFormat detectInputFormat(const std::string& path);
+
+}  // namespace ndtom::mapper

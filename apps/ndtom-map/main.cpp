@@ -1,0 +1,117 @@
+// ndtom-map: builds an NDT Occupancy Map from scans with known poses (MRPT rawlog or
+// simplemap, TUM RGB-D sequence, PCD folder) and writes the map, an MRPT map object, a 3D
+// scene, pictures and a summary. Exit code 0 on success, 1 for bad input data or a failed
+// write, 2 for a bad command line.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "map_builder.h"
+#include "map_outputs.h"
+#include "mapper_options.h"
+#include "oblique_view.h"
+#include "process_memory.h"
+#include "run_summary.h"
+#include "scan_source.h"
+#include "text_values.h"
+
+using namespace ndtom::mapper;
+
+namespace {
+
+SourceSettings sourceSettingsFor(const MapperOptions& o, const InsertionOptions& insertion) {
+  SourceSettings s;
+  s.input = o.input;
+  s.format = o.format == InputFormat::Auto ? detectInputFormat(o.input) : o.format;
+  s.poses_file = o.poses_file;
+  s.pose_format = o.pose_format;
+  s.pose_time_tolerance = o.pose_time_tolerance;
+  s.camera = o.camera;
+  s.decimation = insertion.decimation;
+  s.decimation_3d_range = insertion.decimation_3d_range;
+  s.max_scans = o.max_scans;
+  return s;
+}
+
+void requireSomePoints(const MappingResult& mapping, const std::string& input) {
+  if (mapping.points.pointsUsed() > 0) return;
+  throw InputError(input + ": no usable point in " + std::to_string(mapping.passes[0].scans) +
+                   " scans (" + std::to_string(mapping.points.points_in) + " points read, " +
+                   std::to_string(mapping.points.rejected()) +
+                   " rejected: see --min-range, --max-range)");
+}
+
+RunSummary summarize(const MapperOptions& o, const SourceSettings& settings,
+                     const mrpt_ndtom::CNDTOccupancyMap& map, const MappingResult& mapping,
+                     const std::optional<CoarseMapInfo>& coarse,
+                     std::chrono::steady_clock::time_point start) {
+  RunSummary summary;
+  summary.input = o.input;
+  summary.format = inputFormatName(settings.format);
+  summary.map_options = map.ndtMap().options();
+  summary.threads = o.threads;
+  summary.mapping = &mapping;
+  summary.coarse = coarse;
+  summary.peak_rss = peakRssBytes();
+  summary.total_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+int run(const MapperOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  // Read the options and open the input: every check that can fail fast happens here.
+  const InsertionOptions insertion = resolveInsertionOptions(o.insertion);
+  const SourceSettings settings = sourceSettingsFor(o, insertion);
+  auto source = openScanSource(settings);
+  OutputFiles out(o.prefix);
+  if (!o.quiet) std::fprintf(stderr, "ndtom-map: %s\n", source->description().c_str());
+
+  // Insert the scans.
+  Progress progress(!o.quiet);
+  MappingResult mapping = buildMap(std::move(source), settings,
+                                   {insertion.toMapOptions(), o.threads, o.passes}, progress);
+  requireSomePoints(mapping, o.input);
+  const size_t peak_rss_after_mapping = peakRssBytes();
+
+  // Write the outputs (under temporary names until everything has succeeded).
+  mrpt_ndtom::CNDTOccupancyMap map(insertion.resolution);
+  map.insertionOptions = insertion;
+  map.renderOptions = renderOptionsFor(heightScaleOf(mapping.map), o.max_ellipsoids);
+  map.setNdtMap(std::move(mapping.map));
+  const OutputSettings output_settings{o.coarse, o.pictures, o.image_width, o.max_ellipsoids};
+  const auto coarse = writeMapOutputs(map, mapping.sensor_path, output_settings, out);
+
+  // The summary, then every file into place at once.
+  RunSummary summary = summarize(o, settings, map, mapping, coarse, start);
+  summary.peak_rss_after_mapping = peak_rss_after_mapping;
+  summary.files = out.files();
+  summary.files.push_back({"summary", o.prefix + ".summary.json"});
+  out.writeBytes("summary", ".summary.json", summaryJson(summary));
+  out.commit();
+  if (!o.quiet) std::fputs(summaryText(summary).c_str(), stdout);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MapperOptions options;
+  try {
+    options = parseMapperOptions(argc, argv);
+    if (options.help) {
+      std::fputs(helpText().c_str(), stdout);
+      return 0;
+    }
+    return run(options);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "ndtom-map: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    // After a progress bar on a terminal, start a fresh line.
+    std::fprintf(stderr, "%sndtom-map: %s\n", isatty(STDERR_FILENO) ? "\n" : "",
+                 oneLineMessage(e).c_str());
+    return 1;
+  }
+}

@@ -1,0 +1,69 @@
+#include "map_builder.h"
+
+#include <chrono>
+
+#include "process_memory.h"
+
+namespace ndtom::mapper {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+PassResult describeMap(const ndtom::NdtMap& map) {
+  PassResult r;
+  r.cells = map.numCells();
+  r.gaussians = map.numGaussians();
+  map.forEachCell([&](const ndtom::CellView& c) {
+    if (c.logodds > 0) ++r.occupied;
+    if (c.logodds < 0) ++r.free;
+  });
+  r.map_bytes = map.memoryBytes();
+  r.rss_bytes = currentRssBytes();
+  return r;
+}
+
+// One pass: every scan of `source` into `result.map`.
+void insertAll(ScanSource& source, const ndtom::InsertOptions& insert, bool first_pass,
+               MappingResult& result, Progress& progress) {
+  size_t done = 0, points = 0;
+  while (auto scan = source.next()) {
+    const auto start = Clock::now();
+    try {
+      result.points += result.map.insertScan(scan->points_world, scan->sensor_origin, insert);
+    } catch (const std::invalid_argument& e) {  // a bad sensor origin; the map is unchanged
+      throw InputError(scan->name + ": " + e.what());
+    }
+    result.insert_seconds.push_back(secondsSince(start));
+    if (first_pass) result.sensor_path.push_back(scan->sensor_origin);
+    points += scan->points_world.size();
+    progress.update(++done, points);
+  }
+}
+
+}  // namespace
+
+MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings& settings,
+                       const BuildSettings& build, Progress& progress) {
+  MappingResult result{ndtom::NdtMap(build.map), {}, {}, {}, {}, {}, source->description()};
+  ndtom::InsertOptions insert = build.map.insertion;
+  insert.threads = build.threads;
+  for (int pass = 1; pass <= build.passes; ++pass) {
+    if (pass > 1) source = openScanSource(settings);
+    const auto start = Clock::now();
+    progress.startPass(pass, build.passes, source->size());
+    insertAll(*source, insert, pass == 1, result, progress);
+    progress.finishPass();
+    if (pass == 1) result.skips = source->skips();
+    PassResult r = describeMap(result.map);
+    r.scans = source->size();
+    r.seconds = secondsSince(start);
+    result.passes.push_back(r);
+  }
+  return result;
+}
+
+}  // namespace ndtom::mapper

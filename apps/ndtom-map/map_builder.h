@@ -1,0 +1,45 @@
+// Inserting the scans of a source into an NDT-OM, pass after pass, with timing and memory.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ndtom/ndt_map.h"
+#include "progress.h"
+#include "scan_source.h"
+
+namespace ndtom::mapper {
+
+/// The map after one pass over the input.
+struct PassResult {
+  size_t scans = 0;
+  size_t cells = 0, gaussians = 0, occupied = 0, free = 0;
+  size_t map_bytes = 0;  ///< NdtMap::memoryBytes()
+  size_t rss_bytes = 0;  ///< resident set size of the process at the end of the pass
+  double seconds = 0;    ///< wall time of the pass (reading + insertion)
+};
+
+struct MappingResult {
+  ndtom::NdtMap map;
+  ndtom::InsertionReport points;       ///< every point of every pass, by what became of it
+  std::vector<double> insert_seconds;  ///< per scan, every pass: NdtMap::insertScan only
+  std::vector<PassResult> passes;
+  std::vector<Eigen::Vector3d> sensor_path;  ///< sensor origins of the first pass
+  SourceSkips skips;                         ///< of the first pass
+  std::string source_description;
+};
+
+struct BuildSettings {
+  ndtom::MapOptions map;
+  int threads = 1;
+  int passes = 1;
+};
+
+/// Inserts every scan of `source` (already opened from `settings`), then reopens the input
+/// for each further pass. Throws InputError for unreadable data or a bad scan.
+MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings& settings,
+                       const BuildSettings& build, Progress& progress);
+
+}  // namespace ndtom::mapper

@@ -1,0 +1,31 @@
+// Everything a run writes besides its summary: the map in the project's format, the MRPT
+// map object, a scene for SceneViewer3D, the pictures and the optional coarser map.
+#pragma once
+
+#include <optional>
+
+#include "mrpt_ndtom/CNDTOccupancyMap.h"
+#include "output_files.h"
+#include "run_summary.h"
+
+namespace ndtom::mapper {
+
+struct OutputSettings {
+  int coarse = 0;  ///< 0: no coarse map
+  bool pictures = true;
+  int image_width = 1200;
+  uint32_t max_ellipsoids = 50000;
+};
+
+/// Stages every output in `out` (nothing is committed here):
+///   .ndtom          ndtom::encodeMap of the map
+///   .ndtommap       the CNDTOccupancyMap in an MRPT archive (CSerializable)
+///   .3Dscene        ellipsoids and sensor path, for SceneViewer3D
+///   .top.png, .3d.png   the pictures (unless disabled)
+///   .coarseK.ndtom  the map K times coarser (if asked)
+/// Returns the coarse map's counts if one was written.
+std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap& map,
+                                             const std::vector<Eigen::Vector3d>& sensor_path,
+                                             const OutputSettings& settings, OutputFiles& out);
+
+}  // namespace ndtom::mapper

@@ -1,0 +1,194 @@
+#include "mapper_options.h"
+
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include "text_values.h"
+
+namespace ndtom::mapper {
+namespace {
+
+using Handler = std::function<void(MapperOptions&, const std::string& value)>;
+
+struct OptionSpec {
+  bool takes_value;
+  Handler handle;
+};
+
+ndtom::io::PoseFormat poseFormatFromName(const std::string& name) {
+  if (name == "auto") return ndtom::io::PoseFormat::Auto;
+  if (name == "kitti") return ndtom::io::PoseFormat::Kitti;
+  if (name == "tum") return ndtom::io::PoseFormat::Tum;
+  throw UsageError("--pose-format: expected auto, kitti or tum, got '" + name + "'");
+}
+
+double positive(const std::string& option, const std::string& text) {
+  const double v = parseReal(option, text);
+  if (!(v > 0)) throw UsageError(option + " = " + text + ": must be > 0");
+  return v;
+}
+
+const std::map<std::string, OptionSpec>& optionTable() {
+  using O = MapperOptions;
+  static const std::map<std::string, OptionSpec> table = {
+      {"-o", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
+      {"--output", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
+      {"--format", {true, [](O& o, const std::string& v) { o.format = inputFormatFromName(v); }}},
+      {"--poses", {true, [](O& o, const std::string& v) { o.poses_file = v; }}},
+      {"--pose-format",
+       {true, [](O& o, const std::string& v) { o.pose_format = poseFormatFromName(v); }}},
+      {"--pose-time-tolerance",
+       {true,
+        [](O& o, const std::string& v) {
+          o.pose_time_tolerance = positive("--pose-time-tolerance", v);
+        }}},
+      {"--fx", {true, [](O& o, const std::string& v) { o.camera.fx = positive("--fx", v); }}},
+      {"--fy", {true, [](O& o, const std::string& v) { o.camera.fy = positive("--fy", v); }}},
+      {"--cx", {true, [](O& o, const std::string& v) { o.camera.cx = parseReal("--cx", v); }}},
+      {"--cy", {true, [](O& o, const std::string& v) { o.camera.cy = parseReal("--cy", v); }}},
+      {"--depth-scale",
+       {true,
+        [](O& o, const std::string& v) { o.camera.depth_scale = positive("--depth-scale", v); }}},
+      {"--max-scans",
+       {true,
+        [](O& o, const std::string& v) {
+          o.max_scans = size_t(parseInteger("--max-scans", v, 1, int64_t(1) << 40));
+        }}},
+      {"--config", {true, [](O& o, const std::string& v) { o.insertion.config_file = v; }}},
+      {"--section", {true, [](O& o, const std::string& v) { o.insertion.section = v; }}},
+      {"--coarse",
+       {true,
+        [](O& o, const std::string& v) { o.coarse = int(parseInteger("--coarse", v, 2, 64)); }}},
+      {"--threads",
+       {true,
+        [](O& o, const std::string& v) { o.threads = int(parseInteger("--threads", v, 1, 256)); }}},
+      {"--passes",
+       {true,
+        [](O& o, const std::string& v) { o.passes = int(parseInteger("--passes", v, 1, 1000)); }}},
+      {"--no-pictures", {false, [](O& o, const std::string&) { o.pictures = false; }}},
+      {"--image-width",
+       {true,
+        [](O& o, const std::string& v) {
+          o.image_width = int(parseInteger("--image-width", v, 400, 8000));
+        }}},
+      {"--max-ellipsoids",
+       {true,
+        [](O& o, const std::string& v) {
+          o.max_ellipsoids = uint32_t(parseInteger("--max-ellipsoids", v, 1, 10000000));
+        }}},
+      {"--quiet", {false, [](O& o, const std::string&) { o.quiet = true; }}},
+      {"-q", {false, [](O& o, const std::string&) { o.quiet = true; }}},
+      {"--help", {false, [](O& o, const std::string&) { o.help = true; }}},
+      {"-h", {false, [](O& o, const std::string&) { o.help = true; }}},
+  };
+  return table;
+}
+
+// "--p-hit" -> "p_hit" if that is an insertion key, else "".
+std::string insertionKeyOf(const std::string& option) {
+  if (option.rfind("--", 0) != 0) return {};
+  std::string key = option.substr(2);
+  std::replace(key.begin(), key.end(), '-', '_');
+  return isInsertionKey(key) ? key : std::string();
+}
+
+void checkComplete(const MapperOptions& o) {
+  if (o.input.empty()) throw UsageError("missing INPUT (see --help)");
+  if (o.prefix.empty()) throw UsageError("missing -o PREFIX (see --help)");
+  if (o.prefix.back() == '/')
+    throw UsageError("-o " + o.prefix + ": PREFIX names files, e.g. out/map, not a folder");
+}
+
+}  // namespace
+
+MapperOptions parseMapperOptions(int argc, char** argv) {
+  MapperOptions o;
+  const auto& table = optionTable();
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i], value;
+    const size_t eq = arg.find('=');
+    const bool inline_value = arg.rfind("--", 0) == 0 && eq != std::string::npos;
+    if (inline_value) {
+      value = arg.substr(eq + 1);
+      arg = arg.substr(0, eq);
+    }
+    if (arg.size() < 2 || arg[0] != '-') {  // a positional argument, "-" or ""
+      if (!o.input.empty()) throw UsageError("more than one INPUT: '" + arg + "'");
+      o.input = arg;
+      continue;
+    }
+    const auto spec = table.find(arg);
+    const std::string key = insertionKeyOf(arg);
+    if (spec == table.end() && key.empty()) throw UsageError(arg + ": unknown option (see --help)");
+    const bool takes_value = key.empty() ? spec->second.takes_value : true;
+    if (!takes_value && inline_value) throw UsageError(arg + ": takes no value");
+    if (takes_value && !inline_value) {
+      if (i + 1 >= argc) throw UsageError(arg + ": missing value");
+      value = argv[++i];
+    }
+    if (!key.empty())
+      o.insertion.overrides.emplace_back(key, value);
+    else
+      spec->second.handle(o, value);
+  }
+  if (!o.help) checkComplete(o);
+  return o;
+}
+
+std::string helpText() {
+  std::ostringstream s;
+  s << "ndtom-map: builds an NDT Occupancy Map (Saarinen et al. 2013) from scans with known\n"
+       "poses and writes the map, an MRPT scene, pictures and a summary.\n"
+       "\n"
+       "Usage: ndtom-map INPUT -o PREFIX [options]\n"
+       "\n"
+       "INPUT (the kind is told from the path; --format rawlog|simplemap|tum|pcd overrides):\n"
+       "  FILE.rawlog[.gz]      MRPT rawlog, either format; poses from its odometry or --poses\n"
+       "  FILE.simplemap[.gz]   MRPT simplemap: keyframes with their poses\n"
+       "  FOLDER (TUM RGB-D)    depth/*.png + associations.txt (or depth.txt + groundtruth.txt)\n"
+       "  FOLDER (PCD)          *.pcd scans (natural order: 0, 1, ..., 10) + poses.txt\n"
+       "\n"
+       "Poses:\n"
+       "  --poses FILE              trajectory, KITTI (12 numbers a line) or TUM (t x y z qx qy\n"
+       "                            qz qw). rawlog: robot poses, TUM matched by time stamp, KITTI\n"
+       "                            line i = i-th scan. PCD folder: sensor poses, line i = i-th\n"
+       "                            scan (default FOLDER/poses.txt)\n"
+       "  --pose-format F           auto|kitti|tum (auto: 12 numbers a line is KITTI)\n"
+       "  --pose-time-tolerance S   largest time stamp gap for a TUM match [s] (0.02)\n"
+       "  --max-scans N             only the first N scans\n"
+       "  --fx, --fy, --cx, --cy, --depth-scale   TUM RGB-D depth camera (525, 525, 319.5,\n"
+       "                            239.5, 5000 units per metre)\n"
+       "\n"
+       "Map (the keys of the MRPT plugin's insertOpts; the command line overrides the file):\n"
+       "  --config FILE.ini         read them from an MRPT .ini file\n"
+       "  --section NAME            its section ("
+    << kDefaultInsertionSection << ")\n";
+  for (const auto& key : insertionKeys()) {
+    std::string option = "--" + key.name;
+    std::replace(option.begin(), option.end(), '_', '-');
+    option += " X";
+    s << "  " << option << std::string(option.size() < 26 ? 26 - option.size() : 1, ' ') << key.help
+      << "\n";
+  }
+  s << "  --coarse K                also write a map K times coarser (exact merge of cells)\n"
+       "  --threads N               threads tracing free rays; same map, faster (1)\n"
+       "  --passes N                replay the input N times, cells and memory after each (1)\n"
+       "\n"
+       "Output:\n"
+       "  -o, --output PREFIX       PREFIX.ndtom (project format), PREFIX.ndtommap (MRPT\n"
+       "                            CNDTOccupancyMap), PREFIX.3Dscene (SceneViewer3D),\n"
+       "                            PREFIX.top.png, PREFIX.3d.png, PREFIX.summary.json\n"
+       "  --no-pictures             skip the PNGs\n"
+       "  --image-width W           picture width [px] (1200)\n"
+       "  --max-ellipsoids N        Gaussians drawn in the 3D picture and scene (50000)\n"
+       "  -q, --quiet               no progress, no summary on stdout\n"
+       "  -h, --help                this text\n"
+       "\n"
+       "Example: ndtom-map share/data/tum-fr2-pioneer-slam2 -o out/tum\n";
+  return s.str();
+}
+
+}  // namespace ndtom::mapper

@@ -1,0 +1,42 @@
+// The command line of ndtom-map.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "input_format.h"
+#include "insertion_settings.h"
+#include "ndtom_io/pose_file.h"
+#include "ndtom_io/tum_rgbd.h"
+
+namespace ndtom::mapper {
+
+struct MapperOptions {
+  std::string input;
+  std::string prefix;  ///< outputs are PREFIX.ndtom, PREFIX.top.png, ...
+  InputFormat format = InputFormat::Auto;
+
+  std::string poses_file;  ///< trajectory file; empty: odometry (rawlog) or FOLDER/poses.txt
+  ndtom::io::PoseFormat pose_format = ndtom::io::PoseFormat::Auto;
+  double pose_time_tolerance = 0.02;  ///< TUM trajectory vs rawlog time stamps (Default: 0.02 s)
+  ndtom::io::DepthCamera camera;      ///< TUM RGB-D intrinsics and depth scale
+  size_t max_scans = 0;               ///< first N scans; 0 = all
+
+  InsertionSettings insertion;  ///< --config, --section and the .ini keys as options
+  int coarse = 0;               ///< also write a map this many times coarser; 0 = none
+  int threads = 1;              ///< threads tracing free rays (Default: 1)
+  int passes = 1;               ///< times the input is replayed into the map (Default: 1)
+
+  bool pictures = true;
+  int image_width = 1200;           ///< pixels (Default: 1200)
+  uint32_t max_ellipsoids = 50000;  ///< drawn in the 3D picture and scene (Default: 50000)
+  bool quiet = false;
+  bool help = false;
+};
+
+/// Throws UsageError with a one-line message for unknown options, missing or bad values.
+MapperOptions parseMapperOptions(int argc, char** argv);
+std::string helpText();
+
+}  // namespace ndtom::mapper

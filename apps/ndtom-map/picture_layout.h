@@ -1,0 +1,31 @@
+// The frame around a map view: a caption on top, a height colour bar on the right, and a
+// scale bar for views drawn to scale.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "height_colors.h"
+
+namespace ndtom::mapper {
+
+inline constexpr int kLegendWidth = 120;  ///< px, right of the view
+
+/// Width left for the view in a picture `picture_width` wide.
+inline int viewWidth(int picture_width) {
+  return picture_width - kLegendWidth;
+}
+
+/// The picture: `title` and `legend` above `view` (wrapped to its width), the colour bar of
+/// `scale` beside it. The picture is view.cols + kLegendWidth wide.
+cv::Mat composePicture(const cv::Mat& view, const std::string& title, const std::string& legend,
+                       const HeightScale& scale);
+
+/// A bar of a round length (1, 2 or 5 times a power of ten metres) in the lower left corner.
+void drawScaleBar(cv::Mat& view, double pixels_per_metre);
+
+/// Text drawn the same way everywhere (anti-aliased Hershey simplex); `scale` 1 is ~22 px.
+void drawText(cv::Mat& image, const std::string& text, cv::Point origin, double scale,
+              const cv::Scalar& color, int thickness = 1);
+
+}  // namespace ndtom::mapper

@@ -1,0 +1,48 @@
+// The account of a run: what was read, what the map holds, time and memory, the files
+// written. As JSON (PREFIX.summary.json) and as a short text for the terminal.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "map_builder.h"
+
+namespace ndtom::mapper {
+
+struct CoarseMapInfo {
+  int factor = 0;
+  double resolution = 0;  ///< m
+  size_t cells = 0, gaussians = 0;
+};
+
+struct WrittenFile {
+  std::string role;  ///< "map", "mrpt_map", "scene", "top_view", "view_3d", "coarse_map", ...
+  std::string path;
+};
+
+struct RunSummary {
+  std::string input, format;
+  ndtom::MapOptions map_options;
+  int threads = 1;
+  const MappingResult* mapping = nullptr;
+  std::optional<CoarseMapInfo> coarse;
+  double total_seconds = 0;
+  size_t peak_rss_after_mapping = 0;  ///< bytes, before the pictures and files
+  size_t peak_rss = 0;                ///< bytes, whole run
+  std::vector<WrittenFile> files;
+};
+
+/// Value at fraction q in [0, 1] of the sorted values (nearest rank); 0 if empty.
+double percentile(std::vector<double> values, double q);
+
+/// Largest |x_pass - x_first| / x_first over the passes, in percent, for cells and map bytes.
+struct PassDrift {
+  double cells_percent = 0, map_bytes_percent = 0;
+};
+PassDrift passDrift(const std::vector<PassResult>& passes);
+
+std::string summaryJson(const RunSummary& summary);
+std::string summaryText(const RunSummary& summary);
+
+}  // namespace ndtom::mapper

@@ -1,0 +1,80 @@
+// Where scans come from: one small interface over every input format. A source yields
+// scans in order, each as world-frame points seen from a sensor origin.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "mapper_options.h"
+
+namespace ndtom::mapper {
+
+/// Bad or inconsistent input data (unreadable file, pose count mismatch, ...): the message
+/// is one line naming the file.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Scan {
+  std::vector<Eigen::Vector3d> points_world;                ///< (m)
+  Eigen::Vector3d sensor_origin = Eigen::Vector3d::Zero();  ///< (m)
+  double time = 0;   ///< seconds (the scan's index where the input has no time)
+  std::string name;  ///< for messages: a file name or "observation 12"
+};
+
+/// What a source skipped, by reason, for the summary.
+struct SourceSkips {
+  size_t unsupported_observations = 0;  ///< rawlog/simplemap entries that are not scans
+  size_t scans_without_pose = 0;        ///< rawlog scans before the first odometry reading
+  size_t frames_without_pose = 0;       ///< TUM depth images without ground truth
+  size_t points_decimated = 0;          ///< dropped by decimation (not counted as rejected)
+};
+
+class ScanSource {
+ public:
+  virtual ~ScanSource() = default;
+  /// Scans next() will yield in all (known when the source is opened).
+  virtual size_t size() const = 0;
+  /// The next scan, or nullopt at the end. Throws InputError on unreadable data.
+  virtual std::optional<Scan> next() = 0;
+  /// One line: format, path, what poses are used.
+  virtual std::string description() const = 0;
+  virtual SourceSkips skips() const { return {}; }
+};
+
+/// Everything a source needs from the command line.
+struct SourceSettings {
+  std::string input;
+  InputFormat format = InputFormat::Auto;
+  std::string poses_file;
+  ndtom::io::PoseFormat pose_format = ndtom::io::PoseFormat::Auto;
+  double pose_time_tolerance = 0.02;
+  ndtom::io::DepthCamera camera;
+  uint32_t decimation = 1;           ///< 1 point in N of scans and clouds
+  uint32_t decimation_3d_range = 1;  ///< depth images: every N-th row and column
+  size_t max_scans = 0;              ///< 0 = all
+};
+
+/// Opens the input (detecting its format if Auto) and checks it can be read completely:
+/// files exist, poses match the scans. Throws UsageError or InputError.
+std::unique_ptr<ScanSource> openScanSource(const SourceSettings& settings);
+
+// One factory per format (source_*.cpp); `settings.format` is already decided.
+std::unique_ptr<ScanSource> openPcdFolder(const SourceSettings& settings);
+std::unique_ptr<ScanSource> openTumSequence(const SourceSettings& settings);
+std::unique_ptr<ScanSource> openRawlog(const SourceSettings& settings);
+std::unique_ptr<ScanSource> openSimplemap(const SourceSettings& settings);
+
+/// Scans kept by --max-scans out of `available`.
+inline size_t limitScans(size_t available, size_t max_scans) {
+  return max_scans == 0 ? available : std::min(available, max_scans);
+}
+
+}  // namespace ndtom::mapper

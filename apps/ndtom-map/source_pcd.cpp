@@ -1,0 +1,95 @@
+// A folder of PCD scans (points in the sensor frame) with one pose per scan, KITTI's
+// convention (poses.txt: line i is [R|t] of the i-th scan, sensor -> world) or a TUM
+// trajectory taken line by line.
+#include <filesystem>
+#include <sstream>
+
+#include "natural_order.h"
+#include "ndtom_io/pcd_reader.h"
+#include "scan_source.h"
+#include "text_values.h"
+
+namespace fs = std::filesystem;
+
+namespace ndtom::mapper {
+namespace {
+
+std::vector<std::string> pcdFilesInNaturalOrder(const std::string& folder) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder, ec))
+    if (entry.path().extension() == ".pcd") names.push_back(entry.path().filename().string());
+  if (ec) throw InputError(folder + ": cannot list the folder: " + ec.message());
+  std::sort(names.begin(), names.end(), naturalLess);
+  return names;
+}
+
+class PcdFolderSource : public ScanSource {
+ public:
+  explicit PcdFolderSource(const SourceSettings& s) : folder_(s.input), decimation_(s.decimation) {
+    if (!fs::is_directory(folder_)) throw UsageError(folder_ + ": not a folder of .pcd files");
+    files_ = pcdFilesInNaturalOrder(folder_);
+    if (files_.empty()) throw InputError(folder_ + ": no .pcd files");
+    poses_path_ = s.poses_file.empty() ? (fs::path(folder_) / "poses.txt").string() : s.poses_file;
+    if (!fs::exists(poses_path_))
+      throw InputError(poses_path_ + ": no pose file (give the scans' poses with --poses FILE)");
+    try {
+      poses_ = ndtom::io::readPoseFile(poses_path_, s.pose_format);
+    } catch (const std::exception& e) {
+      throw InputError(e.what());
+    }
+    if (poses_.size() != files_.size())
+      throw InputError(poses_path_ + ": " + std::to_string(poses_.size()) + " poses for " +
+                       std::to_string(files_.size()) + " .pcd files in " + folder_ +
+                       " (line i is the pose of the i-th scan)");
+    size_ = limitScans(files_.size(), s.max_scans);
+  }
+
+  size_t size() const override { return size_; }
+
+  std::optional<Scan> next() override {
+    if (index_ >= size_) return std::nullopt;
+    const std::string path = (fs::path(folder_) / files_[index_]).string();
+    ndtom::io::PointCloud cloud;
+    try {
+      cloud = ndtom::io::readPcd(path);
+    } catch (const std::exception& e) {
+      throw InputError(e.what());
+    }
+    const Eigen::Isometry3d& sensor_to_world = poses_[index_].pose;
+    Scan scan;
+    scan.name = files_[index_];
+    scan.time = poses_[index_].time;
+    scan.sensor_origin = sensor_to_world * cloud.viewpoint.translation();
+    scan.points_world.reserve(cloud.points.size() / decimation_ + 1);
+    for (size_t i = 0; i < cloud.points.size(); i += decimation_)
+      scan.points_world.push_back(sensor_to_world * cloud.points[i]);
+    skips_.points_decimated += cloud.points.size() - scan.points_world.size();
+    ++index_;
+    return scan;
+  }
+
+  std::string description() const override {
+    std::ostringstream s;
+    s << "PCD folder " << folder_ << ": " << files_.size() << " scans, poses from " << poses_path_;
+    return s.str();
+  }
+
+  SourceSkips skips() const override { return skips_; }
+
+ private:
+  std::string folder_, poses_path_;
+  uint32_t decimation_;
+  std::vector<std::string> files_;
+  std::vector<ndtom::io::StampedPose> poses_;
+  size_t size_ = 0, index_ = 0;
+  SourceSkips skips_;
+};
+
+}  // namespace
+
+std::unique_ptr<ScanSource> openPcdFolder(const SourceSettings& settings) {
+  return std::make_unique<PcdFolderSource>(settings);
+}
+
+}  // namespace ndtom::mapper

@@ -1,0 +1,83 @@
+// A TUM RGB-D sequence folder: depth PNGs with the camera's ground-truth poses.
+#include <sstream>
+
+#include "ndtom_io/tum_rgbd.h"
+#include "scan_source.h"
+#include "text_values.h"
+
+namespace ndtom::mapper {
+namespace {
+
+class TumSource : public ScanSource {
+ public:
+  explicit TumSource(const SourceSettings& s)
+      : folder_(s.input), camera_(s.camera), decimation_(s.decimation_3d_range) {
+    if (!s.poses_file.empty())
+      throw UsageError(
+          "--poses: not used for TUM RGB-D sequences (the folder's ground truth "
+          "gives the poses)");
+    try {
+      camera_.validate();
+    } catch (const std::exception& e) {
+      throw UsageError(std::string("TUM camera: ") + e.what());
+    }
+    try {
+      sequence_ = ndtom::io::readTumSequence(folder_);
+    } catch (const std::exception& e) {
+      throw InputError(e.what());
+    }
+    if (sequence_.frames.empty())
+      throw InputError(folder_ + ": no depth image has a ground-truth pose");
+    skips_.frames_without_pose = sequence_.frames_without_pose;
+    size_ = limitScans(sequence_.frames.size(), s.max_scans);
+  }
+
+  size_t size() const override { return size_; }
+
+  std::optional<Scan> next() override {
+    if (index_ >= size_) return std::nullopt;
+    const ndtom::io::TumFrame& frame = sequence_.frames[index_++];
+    std::vector<Eigen::Vector3d> points;
+    try {
+      points = ndtom::io::readDepthImagePoints(frame.depth_path, camera_, int(decimation_));
+    } catch (const std::exception& e) {
+      throw InputError(e.what());
+    }
+    Scan scan;
+    scan.name = frame.depth_path;
+    scan.time = frame.time;
+    scan.sensor_origin = frame.camera_to_world.translation();
+    scan.points_world.reserve(points.size());
+    for (const auto& p : points) scan.points_world.push_back(frame.camera_to_world * p);
+    return scan;
+  }
+
+  std::string description() const override {
+    std::ostringstream s;
+    s << "TUM RGB-D sequence " << folder_ << ": " << sequence_.frames.size()
+      << " depth images with ground truth, ";
+    if (decimation_ == 1)
+      s << "every pixel";
+    else
+      s << "every " << decimation_ << "th pixel row and column";
+    return s.str();
+  }
+
+  SourceSkips skips() const override { return skips_; }
+
+ private:
+  std::string folder_;
+  ndtom::io::DepthCamera camera_;
+  uint32_t decimation_;
+  ndtom::io::TumSequence sequence_;
+  size_t size_ = 0, index_ = 0;
+  SourceSkips skips_;
+};
+
+}  // namespace
+
+std::unique_ptr<ScanSource> openTumSequence(const SourceSettings& settings) {
+  return std::make_unique<TumSource>(settings);
+}
+
+}  // namespace ndtom::mapper

@@ -1,0 +1,168 @@
+#include "top_view.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+
+#include "picture_layout.h"
+
+namespace ndtom::mapper {
+namespace {
+
+const cv::Scalar kUnknown(222, 222, 222), kFree(255, 255, 255), kThinOccupied(185, 185, 185);
+constexpr double kTileTint = 0.45;  // occupied columns: this much of the height colour on white
+constexpr int kMargin = 16;         // px around the map
+constexpr int kSubpixelBits = 4;
+
+// Metres to pixels: x to the right, y up.
+struct Frame {
+  double x_min = 0, y_max = 0, pixels_per_metre = 1;
+  int width = 0, height = 0;
+  cv::Point2d toPixel(double x, double y) const {
+    return {kMargin + (x - x_min) * pixels_per_metre, kMargin + (y_max - y) * pixels_per_metre};
+  }
+};
+
+bool isOccupiedGaussian(const ndtom::CellView& c) {
+  return c.stats && c.stats->hasGaussian() && c.logodds > 0;
+}
+
+double quantile(std::vector<double>& v, double q) {
+  const size_t k = std::min(v.size() - 1, size_t(q * double(v.size())));
+  std::nth_element(v.begin(), v.begin() + long(k), v.end());
+  return v[k];
+}
+
+// The extent of the occupied Gaussians (without the farthest 0.2% on each side: stray
+// points) and of the sensor path, plus 4% on each side. Free space beyond is cut off.
+Frame frameFor(const ndtom::NdtMap& map, const std::vector<Eigen::Vector3d>& path, int view_width) {
+  std::vector<double> xs, ys;
+  map.forEachCell([&](const ndtom::CellView& c) {
+    if (!isOccupiedGaussian(c)) return;
+    const Eigen::Vector3d p = map.geometry().cellCenter(c.index);
+    xs.push_back(p.x());
+    ys.push_back(p.y());
+  });
+  double x_min = 0, x_max = 1, y_min = 0, y_max = 1;
+  if (!xs.empty()) {
+    x_min = quantile(xs, 0.002), x_max = quantile(xs, 0.998);
+    y_min = quantile(ys, 0.002), y_max = quantile(ys, 0.998);
+  }
+  for (const auto& p : path) {
+    x_min = std::min(x_min, p.x()), x_max = std::max(x_max, p.x());
+    y_min = std::min(y_min, p.y()), y_max = std::max(y_max, p.y());
+  }
+  const double r = map.options().resolution;
+  const double pad_x = 0.04 * (x_max - x_min) + r, pad_y = 0.04 * (y_max - y_min) + r;
+  Frame f;
+  f.x_min = x_min - pad_x;
+  f.y_max = y_max + pad_y;
+  const double dx = x_max - x_min + 2 * pad_x, dy = y_max - y_min + 2 * pad_y;
+  const int inner = view_width - 2 * kMargin;
+  f.pixels_per_metre = std::min(inner / dx, 1.2 * inner / dy);
+  // A tall map gets a narrower picture rather than empty margins.
+  f.width = std::max(int(std::ceil(dx * f.pixels_per_metre)) + 2 * kMargin, 360);
+  f.height = std::max(int(std::ceil(dy * f.pixels_per_metre)) + 2 * kMargin, 360);
+  return f;
+}
+
+// The pixels of a cell's column, clipped to the view; at least one pixel.
+cv::Rect columnPixels(const ndtom::NdtMap& map, const ndtom::CellIndex& index, const Frame& f,
+                      const cv::Size& size) {
+  const double half = map.options().resolution / 2;
+  const Eigen::Vector3d p = map.geometry().cellCenter(index);
+  const cv::Point2d a = f.toPixel(p.x() - half, p.y() + half);
+  const cv::Point2d b = f.toPixel(p.x() + half, p.y() - half);
+  const int x0 = int(std::floor(a.x)), y0 = int(std::floor(a.y));
+  const int x1 = std::max(x0 + 1, int(std::floor(b.x))),
+            y1 = std::max(y0 + 1, int(std::floor(b.y)));
+  return cv::Rect(x0, y0, x1 - x0, y1 - y0) & cv::Rect(0, 0, size.width, size.height);
+}
+
+// The ground under the ellipses, column by column: a pale tint of the height colour of the
+// highest occupied Gaussian, grey for occupied cells with too few points for a Gaussian,
+// white for free space, darker grey where nothing is known. Occupied beats free beats unknown.
+void drawColumns(const ndtom::NdtMap& map, const Frame& f, const HeightScale& scale,
+                 cv::Mat& view) {
+  cv::Mat state(view.size(), CV_8U, cv::Scalar(0));
+  cv::Mat top_z(view.size(), CV_32F, cv::Scalar(-std::numeric_limits<float>::infinity()));
+  map.forEachCell([&](const ndtom::CellView& c) {
+    if (c.logodds == 0) return;
+    const uint8_t s = c.logodds < 0 ? 1 : 2;
+    const float z = isOccupiedGaussian(c) ? float(map.gaussianOf(c).mean.z())
+                                          : -std::numeric_limits<float>::infinity();
+    const cv::Rect r = columnPixels(map, c.index, f, view.size());
+    for (int y = r.y; y < r.y + r.height; ++y)
+      for (int x = r.x; x < r.x + r.width; ++x) {
+        state.at<uint8_t>(y, x) = std::max(state.at<uint8_t>(y, x), s);
+        top_z.at<float>(y, x) = std::max(top_z.at<float>(y, x), z);
+      }
+  });
+  const cv::Scalar white(255, 255, 255);
+  view.forEach<cv::Vec3b>([&](cv::Vec3b& pixel, const int* at) {
+    const uint8_t s = state.at<uint8_t>(at[0], at[1]);
+    const float z = top_z.at<float>(at[0], at[1]);
+    cv::Scalar color = s == 0 ? kUnknown : (s == 1 ? kFree : kThinOccupied);
+    if (std::isfinite(z)) color = kTileTint * scale.bgr(z) + (1 - kTileTint) * white;
+    pixel = cv::Vec3b(uchar(color[0]), uchar(color[1]), uchar(color[2]));
+  });
+}
+
+// Returns how many were drawn.
+size_t drawGaussians(const ndtom::NdtMap& map, const Frame& f, const HeightScale& scale,
+                     cv::Mat& view) {
+  std::vector<ndtom::Gaussian> gaussians;
+  map.forEachCell([&](const ndtom::CellView& c) {
+    if (isOccupiedGaussian(c)) gaussians.push_back(map.gaussianOf(c));
+  });
+  std::sort(gaussians.begin(), gaussians.end(),
+            [](const auto& a, const auto& b) { return a.mean.z() < b.mean.z(); });
+  const double unit = 1 << kSubpixelBits;
+  for (const auto& g : gaussians) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(g.covariance.topLeftCorner<2, 2>());
+    const Eigen::Vector2d sigma = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt() * f.pixels_per_metre;
+    const Eigen::Vector2d major = eig.eigenvectors().col(1);
+    const double angle = -std::atan2(major.y(), major.x()) * 180.0 / M_PI;  // image y points down
+    const cv::Point2d c = f.toPixel(g.mean.x(), g.mean.y());
+    const cv::Size axes(int(std::max(sigma[1], 0.7) * unit), int(std::max(sigma[0], 0.7) * unit));
+    cv::ellipse(view, cv::Point(int(c.x * unit), int(c.y * unit)), axes, angle, 0, 360,
+                scale.bgr(g.mean.z()), cv::FILLED, cv::LINE_AA, kSubpixelBits);
+  }
+  return gaussians.size();
+}
+
+void drawPath(const std::vector<Eigen::Vector3d>& path, const Frame& f, cv::Mat& view) {
+  if (path.empty()) return;
+  std::vector<cv::Point> pixels;
+  for (const auto& p : path) {
+    const cv::Point2d q = f.toPixel(p.x(), p.y());
+    pixels.emplace_back(int(std::lround(q.x)), int(std::lround(q.y)));
+  }
+  cv::polylines(view, pixels, false, cv::Scalar(0, 0, 0), 2, cv::LINE_AA);
+  cv::circle(view, pixels.front(), 6, cv::Scalar(0, 0, 0), cv::FILLED, cv::LINE_AA);
+  cv::circle(view, pixels.front(), 3, cv::Scalar(255, 255, 255), cv::FILLED, cv::LINE_AA);
+}
+
+}  // namespace
+
+cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale,
+                      const std::vector<Eigen::Vector3d>& sensor_path, int width) {
+  const Frame f = frameFor(map, sensor_path, viewWidth(width));
+  cv::Mat view(f.height, f.width, CV_8UC3);
+  drawColumns(map, f, scale, view);
+  const size_t drawn = drawGaussians(map, f, scale, view);
+  drawPath(sensor_path, f, view);
+  drawScaleBar(view, f.pixels_per_metre);
+  char title[160];
+  std::snprintf(title, sizeof title, "NDT-OM, top view: %zu occupied Gaussians, %g m cells", drawn,
+                map.options().resolution);
+  return composePicture(view, title,
+                        "1-sigma ellipses by height, on the colour of the highest one in their "
+                        "column; white: free; grey: unknown; black: sensor path from o",
+                        scale);
+}
+
+}  // namespace ndtom::mapper

@@ -1,0 +1,20 @@
+// The map seen from above, drawn to scale with OpenCV: free space white, unknown grey, the
+// occupied Gaussians as their 1-σ ellipses in the horizontal plane, coloured by height and
+// drawn from low to high so that the top of every column shows; the sensor path on top.
+#pragma once
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "height_colors.h"
+#include "ndtom/ndt_map.h"
+
+namespace ndtom::mapper {
+
+/// The framed picture (caption, colour bar, scale bar), at most `width` pixels wide and
+/// 1.2 times as high; narrower for maps longer in y than in x.
+cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale,
+                      const std::vector<Eigen::Vector3d>& sensor_path, int width);
+
+}  // namespace ndtom::mapper

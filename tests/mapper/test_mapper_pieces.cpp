@@ -1,0 +1,151 @@
+// The pieces of ndtom-map that decide what gets mapped: scan order, option layering
+// (defaults < .ini file < command line), trajectory matching, statistics and JSON text.
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <algorithm>
+#include <random>
+
+#include "insertion_settings.h"
+#include "json_writer.h"
+#include "mapper_run.h"
+#include "natural_order.h"
+#include "run_summary.h"
+#include "scan_source.h"
+#include "text_values.h"
+#include "trajectory_poses.h"
+
+using namespace ndtom::mapper;
+using mapper_test::TempDir;
+
+TEST(NaturalOrder, NumbersCompareByValue) {
+  const std::vector<std::string> expected = {"full0.pcd",  "full1.pcd",   "full2.pcd",
+                                             "full9.pcd",  "full10.pcd",  "full11.pcd",
+                                             "full59.pcd", "full100.pcd", "scan_a.pcd"};
+  std::vector<std::string> names = expected;
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::shuffle(names.begin(), names.end(), rng);
+    std::sort(names.begin(), names.end(), naturalLess);
+    EXPECT_EQ(names, expected);
+  }
+  // A strict weak order: irreflexive, and zero padding does not make names equal.
+  EXPECT_FALSE(naturalLess("a10", "a10"));
+  EXPECT_NE(naturalLess("a007", "a7"), naturalLess("a7", "a007"));
+  EXPECT_TRUE(naturalLess("a", "a0"));
+}
+
+TEST(TextValues, StrictParsing) {
+  EXPECT_EQ(parseReal("--x", "0.25"), 0.25);
+  EXPECT_THROW(parseReal("--x", "0.25m"), UsageError);
+  EXPECT_THROW(parseReal("--x", ""), UsageError);
+  EXPECT_THROW(parseReal("--x", "inf"), UsageError);
+  EXPECT_TRUE(std::isinf(parseReal("--x", "inf", /*allow_infinity=*/true)));
+  EXPECT_THROW(parseReal("--x", "nan", true), UsageError);
+  EXPECT_EQ(parseInteger("--n", "12", 1, 20), 12);
+  EXPECT_THROW(parseInteger("--n", "21", 1, 20), UsageError);
+  EXPECT_THROW(parseInteger("--n", "1.5", 1, 20), UsageError);
+  EXPECT_TRUE(parseBool("--b", "Yes"));
+  EXPECT_FALSE(parseBool("--b", "0"));
+  EXPECT_THROW(parseBool("--b", "on"), UsageError);  // MRPT's read_bool would read false
+}
+
+TEST(TextValues, OneLineOfAnMrptException) {
+  try {
+    THROW_EXCEPTION("[section] p_hit = 2: must be in (0.5, 1)");
+  } catch (const std::exception& e) {
+    EXPECT_EQ(oneLineMessage(e), "[section] p_hit = 2: must be in (0.5, 1)");
+  }
+  EXPECT_EQ(oneLineMessage(std::runtime_error("plain")), "plain");
+}
+
+TEST(InsertionSettings, FileThenCommandLine) {
+  TempDir dir;
+  InsertionOptions in_file;
+  in_file.resolution = 0.35;
+  in_file.p_hit = 0.7;
+  in_file.logodds_min = -3;
+  in_file.max_range = 25;
+  in_file.ray_mode = ndtom::RayMode::PerHitCell;
+  in_file.decimation = 3;
+  in_file.occupancy_enabled = false;
+  mrpt::config::CConfigFileMemory memory;
+  in_file.saveToConfigFile(memory, "Mine");
+  std::ofstream(dir / "map.ini") << memory.getContent();
+
+  InsertionSettings settings;
+  settings.config_file = (dir / "map.ini").string();
+  settings.section = "Mine";
+  EXPECT_TRUE(resolveInsertionOptions(settings) == in_file);
+
+  settings.overrides = {{"p_hit", "0.65"}, {"max_range", "inf"}, {"ray_mode", "PerPoint"}};
+  InsertionOptions expected = in_file;
+  expected.p_hit = 0.65;
+  expected.max_range = std::numeric_limits<double>::infinity();
+  expected.ray_mode = ndtom::RayMode::PerPoint;
+  EXPECT_TRUE(resolveInsertionOptions(settings) == expected);
+
+  // Every key --help lists is one the plugin saves, and the other way round.
+  std::vector<std::string> saved;
+  memory.getAllKeys("Mine", saved);
+  EXPECT_EQ(saved.size(), insertionKeys().size());
+  for (const auto& key : insertionKeys()) EXPECT_TRUE(isInsertionKey(key.name));
+}
+
+TEST(TrajectoryPoses, TumMatchesTheNearestTimeWithinTheTolerance) {
+  TempDir dir;
+  std::ofstream(dir / "t.txt") << "# t x y z qx qy qz qw\n"
+                                  "10.00 1 0 0 0 0 0 1\n"
+                                  "10.50 2 0 0 0 0 0 1\n"
+                                  "10.25 3 0 0 0 0 0 1\n";  // out of order on purpose
+  const TrajectoryPoses poses((dir / "t.txt").string(), ndtom::io::PoseFormat::Auto, 0.05);
+  EXPECT_TRUE(poses.matchesByTime());
+  EXPECT_EQ(poses.poseFor(0, 10.01).translation().x(), 1);
+  EXPECT_EQ(poses.poseFor(0, 10.28).translation().x(), 3);
+  EXPECT_EQ(poses.poseFor(0, 10.46).translation().x(), 2);
+  EXPECT_NO_THROW(poses.checkCovers({10.0, 10.29, 10.54}, "log"));
+  EXPECT_THROW(poses.checkCovers({10.0, 10.38}, "log"), InputError);
+}
+
+TEST(TrajectoryPoses, KittiMatchesLineByLine) {
+  TempDir dir;
+  std::ofstream(dir / "k.txt") << "1 0 0 5 0 1 0 0 0 0 1 0\n1 0 0 6 0 1 0 0 0 0 1 0\n";
+  const TrajectoryPoses poses((dir / "k.txt").string(), ndtom::io::PoseFormat::Auto, 0.05);
+  EXPECT_FALSE(poses.matchesByTime());
+  EXPECT_EQ(poses.poseFor(1, 123.0).translation().x(), 6);
+  EXPECT_NO_THROW(poses.checkCovers({0, 0}, "log"));
+  EXPECT_THROW(poses.checkCovers({0, 0, 0}, "log"), InputError);
+}
+
+TEST(RunSummary, PercentilesAndDrift) {
+  std::vector<double> v;
+  for (int i = 100; i >= 1; --i) v.push_back(i);
+  EXPECT_EQ(percentile(v, 0.5), 50);
+  EXPECT_EQ(percentile(v, 0.95), 95);
+  EXPECT_EQ(percentile(v, 1.0), 100);
+  EXPECT_EQ(percentile({}, 0.5), 0);
+  std::vector<PassResult> passes(3);
+  passes[0].cells = 1000, passes[1].cells = 1000, passes[2].cells = 1010;
+  passes[0].map_bytes = 200, passes[1].map_bytes = 199, passes[2].map_bytes = 200;
+  const PassDrift d = passDrift(passes);
+  EXPECT_DOUBLE_EQ(d.cells_percent, 1.0);
+  EXPECT_DOUBLE_EQ(d.map_bytes_percent, 0.5);
+}
+
+TEST(JsonWriter, NestedObjectsAndQuoting) {
+  JsonWriter j;
+  j.beginObject();
+  j.field("path", std::string("a \"b\"\\c\n"));
+  j.beginObject("map");
+  j.field("cells", size_t(12));
+  j.field("inf", std::numeric_limits<double>::infinity());
+  j.endObject();
+  j.beginArray("passes");
+  j.beginObject();
+  j.field("ok", true);
+  j.endObject();
+  j.endArray();
+  j.endObject();
+  EXPECT_EQ(j.str(),
+            "{\n  \"path\": \"a \\\"b\\\"\\\\c\\u000a\",\n  \"map\": {\n    \"cells\": 12,\n"
+            "    \"inf\": null\n  },\n  \"passes\": [\n    {\n      \"ok\": true\n    }\n  ]\n}\n");
+}
