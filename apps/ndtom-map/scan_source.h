@@ -77,4 +77,9 @@ inline size_t limitScans(size_t available, size_t max_scans) {
   return max_scans == 0 ? available : std::min(available, max_scans);
 }
 
+/// For descriptions: ", the first N mapped" when --max-scans keeps fewer than `available`.
+inline std::string limitNote(size_t available, size_t used) {
+  return used < available ? ", the first " + std::to_string(used) + " mapped" : std::string();
+}
+
 }  // namespace ndtom::mapper

@@ -49,7 +49,8 @@ class RawlogSource : public ScanSource {
 
   std::string description() const override {
     std::ostringstream s;
-    s << "rawlog " << path_ << ": " << observations_ << " scans, poses from "
+    s << "rawlog " << path_ << ": " << observations_ << " scans" << limitNote(observations_, size_)
+      << ", poses from "
       << (trajectory_ ? trajectory_->path() +
                             (trajectory_->matchesByTime() ? " (by time stamp)" : " (line by line)")
                       : std::string("odometry"));

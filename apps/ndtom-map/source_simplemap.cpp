@@ -77,8 +77,8 @@ class SimplemapSource : public ScanSource {
 
   std::string description() const override {
     std::ostringstream s;
-    s << "simplemap " << path_ << ": " << map_.size() << " keyframes, " << scans_.size()
-      << " scans";
+    s << "simplemap " << path_ << ": " << map_.size() << " keyframes, " << scans_.size() << " scans"
+      << limitNote(scans_.size(), size_);
     return s.str();
   }
 

@@ -55,7 +55,7 @@ class TumSource : public ScanSource {
   std::string description() const override {
     std::ostringstream s;
     s << "TUM RGB-D sequence " << folder_ << ": " << sequence_.frames.size()
-      << " depth images with ground truth, ";
+      << " depth images with ground truth" << limitNote(sequence_.frames.size(), size_) << ", ";
     if (decimation_ == 1)
       s << "every pixel";
     else

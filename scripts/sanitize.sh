@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Builds the whole project with AddressSanitizer + UndefinedBehaviorSanitizer (leak checks
+# included) and runs the whole test suite under them. Any sanitizer report fails a test.
+# Usage: scripts/sanitize.sh [build dir, default build-asan]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+dir=${1:-build-asan}
+scripts/setup.sh
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNDTOM_SANITIZE=ON \
+  -DNDTOM_WITH_MRPT=ON -DNDTOM_BUILD_APPS=ON -DNDTOM_BUILD_TESTS=ON >/dev/null
+cmake --build "$dir" -j2
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+ctest --test-dir "$dir" -j2 --output-on-failure
