@@ -20,7 +20,11 @@ uint32_t NdtMap::StatsPool::add(const CellStats& s) {
 }
 
 void NdtMap::StatsPool::reserve(size_t extra) {
-  if (extra > free_slots.size()) items.reserve(items.size() + extra - free_slots.size());
+  if (extra > free_slots.size()) {
+    // Grow geometrically: an exact reserve would copy the whole pool at every scan.
+    const size_t needed = items.size() + extra - free_slots.size();
+    if (needed > items.capacity()) items.reserve(std::max(needed, 2 * items.capacity()));
+  }
   // remove() must not allocate either: every live slot may be freed.
   free_slots.reserve(items.capacity());
 }

@@ -13,8 +13,26 @@
 
 namespace ndtom {
 
+/// Counters are read and zeroed in groups of 8 (32 bytes); `dirty` marks the groups that
+/// rays touched, so a block crossed by one ray costs a few groups, not all 512 counters.
+inline constexpr int kCountGroup = 8;
+static_assert(kBlockCells / kCountGroup == 64, "one dirty bit per counter group");
+
 struct CountBlock {
   std::array<uint32_t, kBlockCells> count;
+  uint64_t dirty;
+
+  void zero() {
+    std::memset(count.data(), 0, sizeof(count));
+    dirty = 0;
+  }
+  /// Zeroes the dirty groups only (the others are zero already).
+  void zeroDirty() {
+    for (uint64_t d = dirty; d != 0; d &= d - 1)
+      std::memset(&count[size_t(__builtin_ctzll(d)) * kCountGroup], 0,
+                  kCountGroup * sizeof(uint32_t));
+    dirty = 0;
+  }
 };
 
 class ScanCounts {
@@ -30,18 +48,21 @@ class ScanCounts {
     return slot < 0 ? nullptr : &blocks_[table_[size_t(slot)].block].count[offsetInBlock(c)];
   }
 
+  /// Counters of a block, or nullptr if no ray crossed it.
+  CountBlock* findBlock(const CellIndex& block) {
+    const int64_t slot = findSlot(block);
+    return slot < 0 ? nullptr : &blocks_[table_[size_t(slot)].block];
+  }
+
+  /// Position of a block in blockIndex() order, or -1 if no ray crossed it.
+  int64_t indexOf(const CellIndex& block) const {
+    const int64_t slot = findSlot(block);
+    return slot < 0 ? -1 : int64_t(table_[size_t(slot)].block);
+  }
+
   size_t numBlocks() const { return used_.size(); }
   const CellIndex& blockIndex(size_t i) const { return used_[i]; }
   CountBlock& block(size_t i) { return blocks_[i]; }
-
-  /// Adds every counter of `other` into this one.
-  void addAll(const ScanCounts& other) {
-    for (size_t i = 0; i < other.used_.size(); ++i) {
-      CountBlock& mine = blockFor(other.used_[i]);
-      const CountBlock& theirs = other.blocks_[i];
-      for (int k = 0; k < kBlockCells; ++k) mine.count[k] += theirs.count[k];
-    }
-  }
 
   /// Forgets all blocks; their memory is kept for the next scan. Callers zero the blocks
   /// they read (while they are in cache) with zeroBlock(), or clear() does it.
@@ -49,8 +70,8 @@ class ScanCounts {
     for (size_t i = 0; i < used_.size(); ++i) zeroBlock(i);
     reset();
   }
-  void zeroBlock(size_t i) { std::memset(blocks_[i].count.data(), 0, sizeof(CountBlock)); }
-  /// After every block was zeroed by zeroBlock().
+  void zeroBlock(size_t i) { blocks_[i].zero(); }
+  /// After every block was zeroed (CountBlock::zero or zeroDirty).
   void reset() {
     // Erasing entry by entry would break linear-probe chains; the table is small (16 bytes
     // per slot, under 4 slots per 2 KiB block), so wipe it whole.
@@ -76,7 +97,7 @@ class ScanCounts {
     const uint32_t index = uint32_t(used_.size());
     if (index == blocks_.size()) {
       blocks_.emplace_back();
-      std::memset(blocks_.back().count.data(), 0, sizeof(CountBlock));
+      blocks_.back().zero();
     }
     used_.push_back(b);
     table_[slot] = {b, index};
@@ -118,10 +139,13 @@ class CountingWalker {
   explicit CountingWalker(ScanCounts& counts) : counts_(&counts) {}
   void setWeight(uint32_t w) { weight_ = w; }
   size_t visits() const { return visits_; }
+  /// Call after the last ray, so the current block's dirty groups are recorded.
+  void finish() { flushDirty(); }
 
   void start(const CellIndex& c) {
     const CellIndex b = blockOf(c);
     if (!block_counts_ || b != block_) {  // rays share their origin's block
+      flushDirty();
       block_ = b;
       block_counts_ = &counts_->blockAt(b);
     }
@@ -144,22 +168,30 @@ class CountingWalker {
     local_[Axis] &= kBlockEdge - 1;
     offset_ = (local_[2] << (2 * kBlockLog2)) | (local_[1] << kBlockLog2) | local_[0];
     block_[Axis] += step;
+    flushDirty();
     block_counts_ = &counts_->blockAt(block_);
   }
 
   bool visit() {
     block_counts_->count[offset_] += weight_;
+    dirty_ |= uint64_t(1) << (offset_ / kCountGroup);  // in a register until the block changes
     ++visits_;
     return true;
   }
 
  private:
+  void flushDirty() {
+    if (block_counts_) block_counts_->dirty |= dirty_;
+    dirty_ = 0;
+  }
+
   ScanCounts* counts_;
   CountBlock* block_counts_ = nullptr;
   CellIndex block_;
   int32_t local_[3] = {0, 0, 0};
   int32_t offset_ = 0;  ///< of the current cell in its block
   uint32_t weight_ = 1;
+  uint64_t dirty_ = 0;  ///< groups of the current block visited since it was entered
   size_t visits_ = 0;
 };
 

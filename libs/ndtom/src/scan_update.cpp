@@ -1,14 +1,34 @@
 #include "scan_update.h"
 
 #include <algorithm>
-#include <exception>
 #include <stdexcept>
-#include <thread>
 
 #include "ndtom/ray_dda.h"
+#include "parallel.h"
 #include "radix_sort.h"
 
 namespace ndtom {
+
+namespace {
+
+// A stage runs on fewer threads when it has little work: starting one costs tens of µs.
+constexpr size_t kMinPointsPerThread = 8192;
+constexpr size_t kMinRaysPerThread = 256;
+constexpr size_t kMinGroupsPerThread = 2048;
+constexpr size_t kMinBlocksPerThread = 32;
+
+void widen(CellIndex& lo, CellIndex& hi, const CellIndex& c) {
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::min(lo[a], c[a]);
+    hi[a] = std::max(hi[a], c[a]);
+  }
+}
+
+}  // namespace
+
+size_t ScanUpdater::threadsFor(size_t items, size_t min_items_per_thread) const {
+  return std::clamp<size_t>(items / min_items_per_thread, 1, size_t(options_.threads));
+}
 
 InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
                                  const Eigen::Vector3d& origin) {
@@ -18,51 +38,81 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
   origin_ = origin;
   report_ = InsertionReport{};
   report_.points_in = points.size();
+  s_.counts_used = 0;
 
   // Nothing below touches the map until applyToMap(), which cannot fail half-way.
-  classifyPoints(points);
-  groupEndsByCell();
-  if (map_.options().occupancy.enabled) traceFreeRays();
-  applyToMap();
+  try {
+    classifyPoints(points);
+    groupEndsByCell();
+    if (map_.options().occupancy.enabled) traceFreeRays();
+    applyToMap();
+  } catch (...) {
+    for (ScanCounts& c : s_.counts) c.clear();  // the next scan starts from zero counters
+    throw;
+  }
   return report_;
 }
 
 // Step 1: drop bad points (counted), truncate far ones at max_range.
-void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
+PointKind ScanUpdater::classifyPoint(const Eigen::Vector3d& p, Eigen::Vector3d& end,
+                                     InsertionReport& report) const {
   const GridGeometry& geometry = map_.geometry();
-  const double max_ray_length = kMaxRayCells * geometry.resolution();
-  s_.ends.clear();
-  s_.end_cells.clear();
-  s_.ray_ends.clear();
-  s_.ends.reserve(points.size());
-  s_.end_cells.reserve(points.size());
-  s_.ray_ends.reserve(points.size());
-  for (const Eigen::Vector3d& p : points) {
-    if (!p.allFinite()) {
-      ++report_.rejected_non_finite;
-      continue;
+  if (!p.allFinite()) {
+    ++report.rejected_non_finite;
+    return PointKind::kRejected;
+  }
+  if (!geometry.inRange(p)) {
+    ++report.rejected_out_of_grid;
+    return PointKind::kRejected;
+  }
+  const double range = (p - origin_).norm();
+  if (range == 0.0 || range < options_.min_range) {
+    ++report.rejected_too_close;
+    return PointKind::kRejected;
+  }
+  if (std::min(range, options_.max_range) > kMaxRayCells * geometry.resolution()) {
+    ++report.rejected_too_far;
+    return PointKind::kRejected;
+  }
+  // Both ends inside the supported range, so every cell between them is too.
+  if (range <= options_.max_range) {
+    end = p;
+    ++report.hits;
+    return PointKind::kHit;
+  }
+  end = origin_ + (p - origin_) * (options_.max_range / range);
+  ++report.truncated;
+  return PointKind::kTruncated;
+}
+
+void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
+  const size_t n = points.size();
+  s_.kinds.resize(n);
+  s_.ends.resize(n);
+  s_.end_cells.resize(n);
+  struct Part {
+    InsertionReport report;
+    CellIndex lo{kMaxCellIndex, kMaxCellIndex, kMaxCellIndex};
+    CellIndex hi{-kMaxCellIndex, -kMaxCellIndex, -kMaxCellIndex};
+  };
+  const size_t threads = threadsFor(n, kMinPointsPerThread);
+  std::vector<Part> parts(threads);
+  runParallel(threads, [&](size_t t) {
+    Part& part = parts[t];
+    const auto [begin, end] = partRange(n, threads, t);
+    for (size_t i = begin; i < end; ++i) {
+      s_.kinds[i] = classifyPoint(points[i], s_.ends[i], part.report);
+      if (s_.kinds[i] == PointKind::kRejected) continue;
+      s_.end_cells[i] = map_.geometry().cellOf(s_.ends[i]);
+      widen(part.lo, part.hi, s_.end_cells[i]);
     }
-    if (!geometry.inRange(p)) {
-      ++report_.rejected_out_of_grid;
-      continue;
-    }
-    const double range = (p - origin_).norm();
-    if (range == 0.0 || range < options_.min_range) {
-      ++report_.rejected_too_close;
-      continue;
-    }
-    if (std::min(range, options_.max_range) > max_ray_length) {
-      ++report_.rejected_too_far;
-      continue;
-    }
-    // Both ends inside the supported range, so every cell between them is too.
-    const bool hit = range <= options_.max_range;
-    const Eigen::Vector3d end =
-        hit ? p : Eigen::Vector3d(origin_ + (p - origin_) * (options_.max_range / range));
-    s_.ray_ends.push_back({hit ? 1u : 0u, uint32_t(s_.ends.size())});
-    s_.ends.push_back(end);
-    s_.end_cells.push_back(geometry.cellOf(end));
-    ++(hit ? report_.hits : report_.truncated);
+  });
+  ends_lo_ = parts[0].lo;
+  ends_hi_ = parts[0].hi;
+  for (const Part& part : parts) {
+    report_ += part.report;
+    widen(ends_lo_, ends_hi_, part.lo);
+    widen(ends_lo_, ends_hi_, part.hi);
   }
 }
 
@@ -70,214 +120,301 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
 // RCU merges into the cell (Eq. 2, 11).
 void ScanUpdater::groupEndsByCell() {
   s_.groups.clear();
-  if (s_.ray_ends.empty()) return;
-  // Dense cell index within the ends' bounding box: at most 2^18 cells per axis, because
-  // rays are at most kMaxRayCells long.
-  CellIndex lo = s_.end_cells[0], hi = lo;
-  for (const CellIndex& c : s_.end_cells)
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], c[a]);
-      hi[a] = std::max(hi[a], c[a]);
-    }
+  s_.ray_ends.clear();
+  const size_t used = report_.pointsUsed();
+  if (used == 0) return;
+  // Block-major dense index within the ends' bounding box, so each block's groups are
+  // contiguous (threads can own whole blocks); under 2^14 blocks per axis, because rays are
+  // at most kMaxRayCells long.
+  const CellIndex lo = blockOf(ends_lo_), hi = blockOf(ends_hi_);
   const uint64_t nx = uint64_t(hi.x - lo.x) + 1, ny = uint64_t(hi.y - lo.y) + 1;
   const uint64_t nz = uint64_t(hi.z - lo.z) + 1;
-  for (RayEnd& r : s_.ray_ends) {
-    const CellIndex& c = s_.end_cells[r.point];
-    const uint64_t dense =
-        (uint64_t(c.z - lo.z) * ny + uint64_t(c.y - lo.y)) * nx + uint64_t(c.x - lo.x);
-    r.key |= dense << 1;  // the low bit already holds `hit`
+  s_.ray_ends.resize(used);
+  size_t k = 0;
+  for (size_t i = 0; i < s_.kinds.size(); ++i) {
+    if (s_.kinds[i] == PointKind::kRejected) continue;
+    const CellIndex& c = s_.end_cells[i];
+    const CellIndex b = blockOf(c);
+    const uint64_t block =
+        (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
+    const uint64_t dense = block * kBlockCells + uint64_t(offsetInBlock(c));
+    s_.ray_ends[k++] = {dense << 1 | (s_.kinds[i] == PointKind::kHit ? 1u : 0u), uint32_t(i)};
   }
   int key_bits = 1;
-  while (key_bits < 64 && (uint64_t(1) << key_bits) < 2 * nx * ny * nz) ++key_bits;
+  while (key_bits < 64 && (uint64_t(1) << key_bits) < 2 * kBlockCells * nx * ny * nz) ++key_bits;
   radixSortByKey(s_.ray_ends, s_.sort_buffer, key_bits);
+  // One gather with independent loads, instead of a dependent walk per group later.
+  s_.sorted_ends.resize(used);
+  for (size_t i = 0; i < used; ++i) s_.sorted_ends[i] = s_.ends[s_.ray_ends[i].point];
 
-  const GridGeometry& geometry = map_.geometry();
-  for (size_t begin = 0; begin < s_.ray_ends.size();) {
-    size_t end = begin + 1;
-    while (end < s_.ray_ends.size() && s_.ray_ends[end].key == s_.ray_ends[begin].key) ++end;
-    EndGroup g;
-    g.cell = s_.end_cells[s_.ray_ends[begin].point];
-    g.hit = (s_.ray_ends[begin].key & 1) != 0;
-    g.count = uint32_t(end - begin);
-    // Two-pass statistics (Eq. 1) of the group, relative to the cell centre.
-    const Eigen::Vector3d centre = geometry.cellCenter(g.cell);
-    CellStats& stats = g.batch;
-    stats.n = g.count;
-    for (size_t i = begin; i < end; ++i) stats.mean += s_.ends[s_.ray_ends[i].point] - centre;
-    stats.mean /= double(g.count);
-    for (size_t i = begin; i < end; ++i) {
-      const Eigen::Vector3d d = s_.ends[s_.ray_ends[i].point] - centre - stats.mean;
-      stats.scatter += d * d.transpose();
+  for (size_t i = 0; i < used; ++i) {
+    if (i > 0 && s_.ray_ends[i].key == s_.ray_ends[i - 1].key) {
+      ++s_.groups.back().count;
+      continue;
     }
-    g.mean_end = centre + stats.mean;
-    if (!g.hit) stats = CellStats{};
-    s_.groups.push_back(g);
-    report_.cells_hit += g.hit;
-    begin = end;
+    const bool hit = (s_.ray_ends[i].key & 1) != 0;
+    s_.groups.push_back({s_.end_cells[s_.ray_ends[i].point], uint32_t(i), 1, hit, Eigen::Vector3d::Zero()});
+    report_.cells_hit += hit;
   }
+  if (options_.ray_mode != RayMode::PerHitCell || !map_.options().occupancy.enabled) return;
+
+  // One ray per group, to the mean of its ends.
+  const size_t threads = threadsFor(s_.groups.size(), kMinGroupsPerThread);
+  runParallel(threads, [&](size_t t) {
+    const auto [first, last] = partRange(s_.groups.size(), threads, t);
+    for (size_t group = first; group < last; ++group) {
+      EndGroup& g = s_.groups[group];
+      const Eigen::Vector3d centre = map_.geometry().cellCenter(g.cell);
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (uint32_t i = g.begin; i < g.begin + g.count; ++i)
+        sum += s_.sorted_ends[i] - centre;
+      g.mean_end = centre + sum / double(g.count);
+    }
+  });
+}
+
+// Two-pass statistics (Eq. 1) of a group's points, relative to its cell's centre.
+CellStats ScanUpdater::groupStats(const EndGroup& g) const {
+  const Eigen::Vector3d centre = map_.geometry().cellCenter(g.cell);
+  const uint32_t end = g.begin + g.count;
+  CellStats stats;
+  stats.n = g.count;
+  for (uint32_t i = g.begin; i < end; ++i) stats.mean += s_.sorted_ends[i] - centre;
+  stats.mean /= double(g.count);
+  for (uint32_t i = g.begin; i < end; ++i) {
+    const Eigen::Vector3d d = s_.sorted_ends[i] - centre - stats.mean;
+    stats.scatter += d * d.transpose();
+  }
+  return stats;
 }
 
 // Step 3: count N_e, the rays crossing each cell without ending in it. Rays are split in
 // contiguous chunks (neighbouring rays share cells) over threads with their own counters.
 void ScanUpdater::traceFreeRays() {
   const bool per_point = options_.ray_mode == RayMode::PerPoint;
-  const size_t rays = per_point ? s_.ends.size() : s_.groups.size();
-  const size_t threads = std::max<size_t>(1, std::min<size_t>(options_.threads, rays / 256 + 1));
+  const size_t rays = per_point ? report_.pointsUsed() : s_.groups.size();
+  const size_t threads = threadsFor(rays, kMinRaysPerThread);
   if (s_.counts.size() < threads) s_.counts.resize(threads);
-  for (ScanCounts& c : s_.counts) c.clear();
+  s_.counts_used = threads;
 
   const GridGeometry& geometry = map_.geometry();
   std::vector<size_t> visits(threads, 0);
-  auto trace = [&](size_t t) {
+  runParallel(threads, [&](size_t t) {
     CountingWalker count(s_.counts[t]);
-    const size_t begin = rays * t / threads, end = rays * (t + 1) / threads;
-    for (size_t i = begin; i < end; ++i) {
-      if (per_point) {
-        count = walkRay(geometry, origin_, s_.ends[i], count);
-      } else {
+    if (per_point) {
+      const auto [begin, end] = partRange(s_.kinds.size(), threads, t);
+      for (size_t i = begin; i < end; ++i)
+        if (s_.kinds[i] != PointKind::kRejected)
+          count = walkRay(geometry, origin_, s_.ends[i], count);
+    } else {
+      const auto [begin, end] = partRange(s_.groups.size(), threads, t);
+      for (size_t i = begin; i < end; ++i) {
         count.setWeight(s_.groups[i].count);
         count = walkRay(geometry, origin_, s_.groups[i].mean_end, count);
       }
     }
+    count.finish();
     visits[t] = count.visits();
-  };
-
-  std::vector<std::exception_ptr> errors(threads);
-  std::vector<std::thread> workers;
-  for (size_t t = 1; t < threads; ++t)
-    workers.emplace_back([&, t] {
-      try {
-        trace(t);
-      } catch (...) {
-        errors[t] = std::current_exception();
-      }
-    });
-  try {
-    trace(0);
-  } catch (...) {
-    errors[0] = std::current_exception();
-  }
-  for (std::thread& w : workers) w.join();
-  for (const auto& e : errors)
-    if (e) std::rethrow_exception(e);
-  for (size_t t = 1; t < threads; ++t) {
-    s_.counts[0].addAll(s_.counts[t]);
-    s_.counts[t].clear();
-  }
+  });
   report_.rays_cast = rays;
   for (size_t n : visits) report_.voxel_visits += n;
 }
 
-// Step 4: Eq. 12 once per touched cell, then the RCU merge of the hits.
-void ScanUpdater::applyToMap() {
+// Everything step 4 needs from the allocator, so the update itself cannot fail half-way:
+// the union of the threads' counter blocks and the hit cells' blocks (in counts[0]), the
+// map's blocks for them, room in the statistics pool and in the threads' lists.
+void ScanUpdater::allocateForApply() {
   auto& grid = map_.grid_;
-  if (s_.counts.empty()) s_.counts.resize(1);
-  ScanCounts& counts = s_.counts[0];
-  // A cell with hits in this scan takes the hit update only (Eq. 12, N_p > 0).
-  for (const EndGroup& g : s_.groups)
-    if (g.hit)
-      if (uint32_t* n = counts.find(g.cell)) *n = 0;
-
-  // Allocate everything first, so the update below cannot fail half-way.
-  std::vector<CellIndex> created_blocks;
-  std::vector<NdtMap::Block*> map_blocks;
+  const size_t tables = std::max<size_t>(s_.counts_used, 1);
+  ScanCounts& merged = s_.counts[0];
+  s_.created_blocks.clear();
   try {
-    map_blocks.reserve(counts.numBlocks());
-    for (size_t i = 0; i < counts.numBlocks(); ++i) {
+    for (size_t t = 1; t < tables; ++t)
+      for (size_t i = 0; i < s_.counts[t].numBlocks(); ++i)
+        merged.blockAt(s_.counts[t].blockIndex(i));
+    for (size_t i = 0; i < s_.groups.size(); ++i)  // a block's groups are contiguous
+      if (s_.groups[i].hit && (i == 0 || blockOf(s_.groups[i].cell) != blockOf(s_.groups[i - 1].cell)))
+        merged.blockAt(blockOf(s_.groups[i].cell));
+    const size_t blocks = merged.numBlocks();
+    s_.other_counts.resize(blocks * (tables - 1));
+    for (size_t i = 0; i < blocks; ++i)
+      for (size_t t = 1; t < tables; ++t)
+        s_.other_counts[i * (tables - 1) + t - 1] = s_.counts[t].findBlock(merged.blockIndex(i));
+    s_.map_blocks.resize(blocks);
+    s_.created_blocks.reserve(blocks);
+    for (size_t i = 0; i < blocks; ++i) {
       bool created = false;
-      map_blocks.push_back(&grid.getOrCreate(counts.blockIndex(i), &created));
-      if (created) created_blocks.push_back(counts.blockIndex(i));
+      s_.map_blocks[i] = &grid.getOrCreate(merged.blockIndex(i), &created);
+      if (created) s_.created_blocks.push_back(merged.blockIndex(i));
     }
-    for (const EndGroup& g : s_.groups) {
-      if (!g.hit) continue;
-      bool created = false;
-      grid.getOrCreate(blockOf(g.cell), &created);
-      if (created) created_blocks.push_back(blockOf(g.cell));
+    map_.stats_.reserve(report_.cells_hit);
+
+    // Hit groups split in near-equal ranges that never share a block.
+    const size_t groups = s_.groups.size();
+    hit_threads_ = threadsFor(report_.cells_hit, kMinGroupsPerThread);
+    s_.hit_part_starts.assign(hit_threads_ + 1, groups);
+    for (size_t t = 0; t < hit_threads_; ++t) {
+      size_t start = partRange(groups, hit_threads_, t).first;
+      while (start > 0 && start < groups &&
+             blockOf(s_.groups[start].cell) == blockOf(s_.groups[start - 1].cell))
+        ++start;
+      s_.hit_part_starts[t] = std::max(start, t > 0 ? s_.hit_part_starts[t - 1] : 0);
     }
-    map_.stats_.reserve(s_.groups.size());
+    apply_threads_ = threadsFor(blocks, kMinBlocksPerThread);
+    const size_t parts = std::max(apply_threads_, hit_threads_);
+    if (s_.apply_parts.size() < parts) s_.apply_parts.resize(parts);
+    if (s_.new_stats.size() < hit_threads_) s_.new_stats.resize(hit_threads_);
+    for (size_t t = 0; t < parts; ++t) {
+      s_.apply_parts[t].freed_slots.reserve(map_.stats_.items.capacity());
+      s_.apply_parts[t].freed_slots.clear();
+    }
+    for (size_t t = 0; t < hit_threads_; ++t) {
+      s_.new_stats[t].clear();
+      s_.new_stats[t].reserve(s_.hit_part_starts[t + 1] - s_.hit_part_starts[t]);
+    }
   } catch (...) {
-    for (const CellIndex& b : created_blocks) grid.erase(b);
-    counts.clear();
+    for (const CellIndex& b : s_.created_blocks) grid.erase(b);
     throw;
   }
-
-  const double miss = map_.options().occupancy.missLogOdds();
-  const double hit = map_.options().occupancy.hitLogOdds();
-  for (size_t b = 0; b < counts.numBlocks(); ++b) {
-    applyFreeCounts(counts.block(b), *map_blocks[b], miss);
-    counts.zeroBlock(b);  // while it is in cache
-  }
-  counts.reset();
-  BlockAccessor<NdtMap::Block> blocks(grid);
-  for (const EndGroup& g : s_.groups) {
-    if (!g.hit) continue;
-    updateCell(blocks.getOrCreate(blockOf(g.cell)), offsetInBlock(g.cell), double(g.count) * hit,
-               &g.batch);
-    ++report_.cells_touched;
-  }
 }
 
-// Eq. 12 for the cells of one block that rays crossed without a hit: the bulk of the
-// update, so it avoids the general updateCell path for cells without statistics.
-void ScanUpdater::applyFreeCounts(const CountBlock& counts, NdtMap::Block& block, double miss) {
+// Step 4: Eq. 12 once per touched cell, and the RCU merge of the hits. Blocks are split over
+// threads, each block owned by one; the shared statistics pool is only read and updated in
+// place, and slots are freed and taken once the threads are done.
+void ScanUpdater::applyToMap() {
+  if (s_.counts.empty()) s_.counts.resize(1);
+  const size_t tables = std::max<size_t>(s_.counts_used, 1);
+  // A cell with hits in this scan takes the hit update only (Eq. 12, N_p > 0).
+  runParallel(tables, [&](size_t t) {
+    for (const EndGroup& g : s_.groups)
+      if (g.hit)
+        if (uint32_t* n = s_.counts[t].find(g.cell)) *n = 0;
+  });
+  allocateForApply();
+
+  auto collect = [&](size_t threads) {
+    for (size_t t = 0; t < threads; ++t) {
+      ScanScratch::ApplyPart& part = s_.apply_parts[t];
+      for (uint32_t slot : part.freed_slots) map_.stats_.remove(slot);
+      part.freed_slots.clear();
+      report_.cells_touched += part.touched;
+      report_.cells_created += part.created;
+      report_.gaussians_gained += part.gaussians_gained;
+      report_.gaussians_lost += part.gaussians_lost;
+      map_.num_cells_ += part.created;
+      part.touched = part.created = part.gaussians_gained = part.gaussians_lost = 0;
+    }
+  };
+  const size_t blocks = s_.counts[0].numBlocks();
+  runParallel(apply_threads_, [&](size_t t) {
+    const auto [begin, end] = partRange(blocks, apply_threads_, t);
+    applyFreeCounts(begin, end, s_.apply_parts[t]);
+  });
+  collect(apply_threads_);
+  runParallel(hit_threads_, [&](size_t t) {
+    applyHits(s_.hit_part_starts[t], s_.hit_part_starts[t + 1], s_.apply_parts[t],
+              s_.new_stats[t]);
+  });
+  collect(hit_threads_);
+  for (size_t t = 0; t < hit_threads_; ++t)
+    for (const ScanScratch::NewStats& n : s_.new_stats[t]) *n.slot = map_.stats_.add(n.stats);
+  for (size_t t = 0; t < tables; ++t) s_.counts[t].reset();  // their blocks are zero again
+}
+
+// Eq. 12 for the cells that rays crossed without a hit, in counts[0]'s blocks [begin, end):
+// the bulk of the update.
+void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPart& part) {
   const double lo = map_.options().occupancy.logodds_min;
   const double hi = map_.options().occupancy.logodds_max;
-  size_t touched = 0, created = 0;
-  constexpr int kGroup = 8;  // 32 bytes of counters tested at once: most are zero
-  for (int g = 0; g < kBlockCells; g += kGroup) {
-    uint32_t any = 0;
-    for (int k = 0; k < kGroup; ++k) any |= counts.count[g + k];
-    if (any == 0) continue;
-    for (int i = g; i < g + kGroup; ++i) {
-      const uint32_t n = counts.count[i];
-      if (n == 0) continue;
-      ++touched;
-      if (block.stats[i] != NdtMap::kNoStats) {
-        updateCell(block, i, double(n) * miss, nullptr);
-        continue;
+  const double miss = map_.options().occupancy.missLogOdds();
+  const size_t others = std::max<size_t>(s_.counts_used, 1) - 1;
+  const auto& pool = map_.stats_.items;
+  ScanCounts& merged = s_.counts[0];
+  for (size_t b = begin; b < end; ++b) {
+    CountBlock& counts = merged.block(b);
+    for (size_t t = 0; t < others; ++t) {
+      CountBlock* other = s_.other_counts[b * others + t];
+      if (!other) continue;
+      for (uint64_t d = other->dirty; d != 0; d &= d - 1) {
+        const int g = __builtin_ctzll(d) * kCountGroup;
+        for (int i = g; i < g + kCountGroup; ++i) counts.count[i] += other->count[i];
       }
-      if (!block.known[i]) {
-        block.known.set(i);
-        block.logodds[i] = 0.f;
-        ++created;
-      }
-      block.logodds[i] = float(std::clamp(double(block.logodds[i]) + double(n) * miss, lo, hi));
+      counts.dirty |= other->dirty;
+      other->zeroDirty();
     }
+    NdtMap::Block& block = *s_.map_blocks[b];
+    for (uint64_t d = counts.dirty; d != 0; d &= d - 1) {
+      const int g = __builtin_ctzll(d) * kCountGroup;
+      for (int i = g; i < g + kCountGroup; ++i) {
+        const uint32_t n = counts.count[i];
+        if (n == 0) continue;
+        ++part.touched;
+        uint32_t& slot = block.stats[i];
+        if (slot != NdtMap::kNoStats) {
+          const float logodds = map_.clampLogOdds(double(block.logodds[i]) + double(n) * miss);
+          block.logodds[i] = logodds;
+          if (logodds <= 0.f) {  // observed empty: the Gaussian goes
+            part.gaussians_lost += pool[slot].hasGaussian();
+            part.freed_slots.push_back(slot);
+            slot = NdtMap::kNoStats;
+          }
+          continue;
+        }
+        if (!block.known[i]) {
+          block.known.set(i);
+          block.logodds[i] = 0.f;
+          ++part.created;
+        }
+        block.logodds[i] = float(std::clamp(double(block.logodds[i]) + double(n) * miss, lo, hi));
+      }
+    }
+    counts.zeroDirty();  // while it is in cache
   }
-  report_.cells_touched += touched;
-  report_.cells_created += created;
-  map_.num_cells_ += created;
 }
 
-void ScanUpdater::updateCell(NdtMap::Block& block, int offset, double delta_logodds,
-                             const CellStats* batch) {
-  if (!block.known[offset]) {
-    block.known.set(offset);
-    block.logodds[offset] = 0.f;
-    ++map_.num_cells_;
-    ++report_.cells_created;
-  }
-  const float logodds = map_.clampLogOdds(double(block.logodds[offset]) + delta_logodds);
-  block.logodds[offset] = logodds;
-
-  uint32_t& slot = block.stats[offset];
-  auto& pool = map_.stats_;
-  const bool had_gaussian = slot != NdtMap::kNoStats && pool.items[slot].hasGaussian();
-  if (map_.options().occupancy.enabled && logodds <= 0.f) {
-    // Observed empty: the Gaussian goes; later hits start a new one.
-    if (slot != NdtMap::kNoStats) {
-      pool.remove(slot);
-      slot = NdtMap::kNoStats;
+// Eq. 12 with N_p > 0 and the RCU merge (Eq. 2, 11) for the hit groups [first, last).
+void ScanUpdater::applyHits(size_t first, size_t last, ScanScratch::ApplyPart& part,
+                            std::vector<ScanScratch::NewStats>& new_stats) {
+  const double hit = map_.options().occupancy.hitLogOdds();
+  const bool occupancy = map_.options().occupancy.enabled;
+  auto& pool = map_.stats_.items;
+  const ScanCounts& merged = s_.counts[0];
+  CellIndex current{};
+  NdtMap::Block* block = nullptr;
+  for (size_t group = first; group < last; ++group) {
+    const EndGroup& g = s_.groups[group];
+    if (!g.hit) continue;
+    const CellIndex b = blockOf(g.cell);
+    if (!block || b != current) {
+      block = s_.map_blocks[size_t(merged.indexOf(b))];
+      current = b;
     }
-  } else if (batch) {
-    if (slot == NdtMap::kNoStats)
-      slot = pool.add(*batch);
-    else
-      pool.items[slot].merge(*batch);
+    const int i = offsetInBlock(g.cell);
+    ++part.touched;
+    if (!block->known[i]) {
+      block->known.set(i);
+      block->logodds[i] = 0.f;
+      ++part.created;
+    }
+    const float logodds = map_.clampLogOdds(double(block->logodds[i]) + double(g.count) * hit);
+    block->logodds[i] = logodds;
+    uint32_t& slot = block->stats[i];
+    const bool had_gaussian = slot != NdtMap::kNoStats && pool[slot].hasGaussian();
+    bool has_gaussian = false;
+    if (occupancy && logodds <= 0.f) {
+      // Still observed empty: no Gaussian; later hits start a new one.
+      if (slot != NdtMap::kNoStats) part.freed_slots.push_back(slot);
+      slot = NdtMap::kNoStats;
+    } else if (slot != NdtMap::kNoStats) {
+      pool[slot].merge(groupStats(g));
+      has_gaussian = pool[slot].hasGaussian();
+    } else {
+      new_stats.push_back({&slot, groupStats(g)});
+      has_gaussian = new_stats.back().stats.hasGaussian();
+    }
+    part.gaussians_gained += !had_gaussian && has_gaussian;
+    part.gaussians_lost += had_gaussian && !has_gaussian;
   }
-  const bool has_gaussian = slot != NdtMap::kNoStats && pool.items[slot].hasGaussian();
-  report_.gaussians_gained += !had_gaussian && has_gaussian;
-  report_.gaussians_lost += had_gaussian && !has_gaussian;
 }
 
 }  // namespace ndtom

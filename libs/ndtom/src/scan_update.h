@@ -19,19 +19,45 @@ struct RayEnd {
 /// Rays that end in one cell: the unit of Eq. 12's N_p and of the per-hit-cell ray mode.
 struct EndGroup {
   CellIndex cell;
-  bool hit;
+  uint32_t begin;  ///< its rays are ray_ends[begin, begin + count), ends in sorted_ends
   uint32_t count;
-  CellStats batch;  ///< the group's endpoints, centred on the cell (hits only)
-  Eigen::Vector3d mean_end;
+  bool hit;
+  Eigen::Vector3d mean_end;  ///< mean of the ray ends (per-hit-cell mode only)
 };
+
+/// What classification made of one input point.
+enum class PointKind : uint8_t { kRejected, kTruncated, kHit };
 
 /// Scratch memory reused from scan to scan (kept by the map, not part of its state).
 struct ScanScratch {
-  std::vector<Eigen::Vector3d> ends;  ///< hit points and truncated ray ends, world frame
+  /// Per input point: its kind and, unless rejected, its ray end (the hit point, or the
+  /// max-range end of a truncated ray, world frame) and that end's cell.
+  std::vector<PointKind> kinds;
+  std::vector<Eigen::Vector3d> ends;
   std::vector<CellIndex> end_cells;
   std::vector<RayEnd> ray_ends, sort_buffer;
+  std::vector<Eigen::Vector3d> sorted_ends;  ///< ends in ray_ends' order: groups read them in a row
+  std::vector<uint32_t> group_starts;
   std::vector<EndGroup> groups;
-  std::vector<ScanCounts> counts;  ///< one per thread; counts[0] receives the sum
+  std::vector<ScanCounts> counts;  ///< one per tracing thread; counts[0] also gets the union
+  size_t counts_used = 0;          ///< tables filled by this scan's tracing
+  std::vector<CountBlock*> other_counts;   ///< [block * (counts_used-1) + t-1], or nullptr
+  std::vector<NdtMap::Block*> map_blocks;  ///< the map's block of each counts[0] block
+  std::vector<CellIndex> created_blocks;   ///< map blocks this scan created, for a rollback
+  /// What one thread of the free-space update did.
+  struct ApplyPart {
+    size_t touched = 0, created = 0, gaussians_gained = 0, gaussians_lost = 0;
+    std::vector<uint32_t> freed_slots;  ///< statistics to free once the threads are done
+  };
+  std::vector<ApplyPart> apply_parts;
+  /// Hit cells that need a new statistics slot, per applying thread: slots are taken from
+  /// the shared pool once the threads are done.
+  struct NewStats {
+    uint32_t* slot;
+    CellStats stats;
+  };
+  std::vector<std::vector<NewStats>> new_stats;
+  std::vector<size_t> hit_part_starts;  ///< group ranges of the hit threads, split at blocks
 };
 
 class ScanUpdater {
@@ -46,14 +72,22 @@ class ScanUpdater {
   void groupEndsByCell();
   void traceFreeRays();
   void applyToMap();
-  void applyFreeCounts(const CountBlock& counts, NdtMap::Block& block, double miss);
-  void updateCell(NdtMap::Block& block, int offset, double delta_logodds, const CellStats* batch);
+  void allocateForApply();
+  PointKind classifyPoint(const Eigen::Vector3d& p, Eigen::Vector3d& end,
+                          InsertionReport& report) const;
+  void applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPart& part);
+  void applyHits(size_t first_group, size_t last_group, ScanScratch::ApplyPart& part,
+                 std::vector<ScanScratch::NewStats>& new_stats);
+  CellStats groupStats(const EndGroup& g) const;
+  size_t threadsFor(size_t items, size_t min_items_per_thread) const;
 
   NdtMap& map_;
   const InsertOptions& options_;
   ScanScratch& s_;
   InsertionReport report_;
   Eigen::Vector3d origin_;
+  CellIndex ends_lo_, ends_hi_;  ///< bounding box of the ray ends' cells
+  size_t apply_threads_ = 1, hit_threads_ = 1;
 };
 
 }  // namespace ndtom

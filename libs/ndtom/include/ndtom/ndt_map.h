@@ -137,6 +137,7 @@ class NdtMap {
   };
 
   friend class ScanUpdater;
+  friend struct ScanScratch;
 
   template <class F>
   void forEachCellOfBlock(const CellIndex& block_index, const Block& block, F& f) const;
