@@ -174,7 +174,7 @@ class CountingWalker {
 
   bool visit() {
     block_counts_->count[offset_] += weight_;
-    dirty_ |= uint64_t(1) << (offset_ / kCountGroup);  // in a register until the block changes
+    dirty_ |= uint64_t(1) << (uint32_t(offset_) / kCountGroup);  // one bit per counter group
     ++visits_;
     return true;
   }

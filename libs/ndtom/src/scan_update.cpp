@@ -109,7 +109,10 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
   });
   ends_lo_ = parts[0].lo;
   ends_hi_ = parts[0].hi;
+  classify_threads_ = threads;
+  s_.part_offsets.assign(1, 0);
   for (const Part& part : parts) {
+    s_.part_offsets.push_back(s_.part_offsets.back() + part.report.pointsUsed());
     report_ += part.report;
     widen(ends_lo_, ends_hi_, part.lo);
     widen(ends_lo_, ends_hi_, part.hi);
@@ -130,22 +133,29 @@ void ScanUpdater::groupEndsByCell() {
   const uint64_t nx = uint64_t(hi.x - lo.x) + 1, ny = uint64_t(hi.y - lo.y) + 1;
   const uint64_t nz = uint64_t(hi.z - lo.z) + 1;
   s_.ray_ends.resize(used);
-  size_t k = 0;
-  for (size_t i = 0; i < s_.kinds.size(); ++i) {
-    if (s_.kinds[i] == PointKind::kRejected) continue;
-    const CellIndex& c = s_.end_cells[i];
-    const CellIndex b = blockOf(c);
-    const uint64_t block =
-        (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
-    const uint64_t dense = block * kBlockCells + uint64_t(offsetInBlock(c));
-    s_.ray_ends[k++] = {dense << 1 | (s_.kinds[i] == PointKind::kHit ? 1u : 0u), uint32_t(i)};
-  }
+  runParallel(classify_threads_, [&](size_t t) {  // the chunks of classifyPoints
+    const auto [begin, end] = partRange(s_.kinds.size(), classify_threads_, t);
+    size_t k = s_.part_offsets[t];
+    for (size_t i = begin; i < end; ++i) {
+      if (s_.kinds[i] == PointKind::kRejected) continue;
+      const CellIndex& c = s_.end_cells[i];
+      const CellIndex b = blockOf(c);
+      const uint64_t block =
+          (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
+      const uint64_t dense = block * kBlockCells + uint64_t(offsetInBlock(c));
+      s_.ray_ends[k++] = {dense << 1 | (s_.kinds[i] == PointKind::kHit ? 1u : 0u), uint32_t(i)};
+    }
+  });
   int key_bits = 1;
   while (key_bits < 64 && (uint64_t(1) << key_bits) < 2 * kBlockCells * nx * ny * nz) ++key_bits;
   radixSortByKey(s_.ray_ends, s_.sort_buffer, key_bits);
   // One gather with independent loads, instead of a dependent walk per group later.
   s_.sorted_ends.resize(used);
-  for (size_t i = 0; i < used; ++i) s_.sorted_ends[i] = s_.ends[s_.ray_ends[i].point];
+  const size_t gather_threads = threadsFor(used, kMinPointsPerThread);
+  runParallel(gather_threads, [&](size_t t) {
+    const auto [begin, end] = partRange(used, gather_threads, t);
+    for (size_t i = begin; i < end; ++i) s_.sorted_ends[i] = s_.ends[s_.ray_ends[i].point];
+  });
 
   for (size_t i = 0; i < used; ++i) {
     if (i > 0 && s_.ray_ends[i].key == s_.ray_ends[i - 1].key) {
@@ -153,7 +163,8 @@ void ScanUpdater::groupEndsByCell() {
       continue;
     }
     const bool hit = (s_.ray_ends[i].key & 1) != 0;
-    s_.groups.push_back({s_.end_cells[s_.ray_ends[i].point], uint32_t(i), 1, hit, Eigen::Vector3d::Zero()});
+    s_.groups.push_back(
+        {s_.end_cells[s_.ray_ends[i].point], uint32_t(i), 1, hit, Eigen::Vector3d::Zero()});
     report_.cells_hit += hit;
   }
   if (options_.ray_mode != RayMode::PerHitCell || !map_.options().occupancy.enabled) return;
@@ -318,7 +329,7 @@ void ScanUpdater::applyToMap() {
   collect(hit_threads_);
   for (size_t t = 0; t < hit_threads_; ++t)
     for (const ScanScratch::NewStats& n : s_.new_stats[t]) *n.slot = map_.stats_.add(n.stats);
-  for (size_t t = 0; t < tables; ++t) s_.counts[t].reset();  // their blocks are zero again
+  runParallel(tables, [&](size_t t) { s_.counts[t].reset(); });  // their blocks are zero again
 }
 
 // Eq. 12 for the cells that rays crossed without a hit, in counts[0]'s blocks [begin, end):

@@ -36,6 +36,7 @@ struct ScanScratch {
   std::vector<Eigen::Vector3d> ends;
   std::vector<CellIndex> end_cells;
   std::vector<RayEnd> ray_ends, sort_buffer;
+  std::vector<size_t> part_offsets;  ///< where each classification chunk's ends start in ray_ends
   std::vector<Eigen::Vector3d> sorted_ends;  ///< ends in ray_ends' order: groups read them in a row
   std::vector<uint32_t> group_starts;
   std::vector<EndGroup> groups;
@@ -87,7 +88,7 @@ class ScanUpdater {
   InsertionReport report_;
   Eigen::Vector3d origin_;
   CellIndex ends_lo_, ends_hi_;  ///< bounding box of the ray ends' cells
-  size_t apply_threads_ = 1, hit_threads_ = 1;
+  size_t classify_threads_ = 1, apply_threads_ = 1, hit_threads_ = 1;
 };
 
 }  // namespace ndtom
