@@ -1,8 +1,6 @@
 #include "bench_options.h"
 
-#include <cmath>
-#include <cstdlib>
-#include <sstream>
+#include "ndtom_apps/option_values.h"
 
 namespace ndtom::bench {
 
@@ -17,60 +15,42 @@ constexpr NamedSystem kSystems[] = {{"ndtom-point", SystemKind::NdtomPerPoint},
                                     {"octomap", SystemKind::Octomap},
                                     {"mrpt-grid3d", SystemKind::MrptGrid3d}};
 
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream s(text);
-  for (std::string item; std::getline(s, item, ',');)
-    if (!item.empty()) items.push_back(item);
-  return items;
-}
-
-double parseNumber(const std::string& option, const std::string& text) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(v))
-    throw UsageError(option + ": '" + text + "' is not a number");
-  return v;
-}
-
 int parseCount(const std::string& option, const std::string& text, int min) {
-  const double v = parseNumber(option, text);
-  if (v != std::floor(v) || v < min || v > 1e6)
-    throw UsageError(option + ": '" + text + "' must be an integer >= " + std::to_string(min));
-  return int(v);
+  return int(apps::parseInteger(option, text, min, 1000000));
 }
 
 std::vector<double> parseResolutions(const std::string& text) {
   std::vector<double> out;
-  for (const std::string& item : splitList(text)) {
-    const double r = parseNumber("--resolutions", item);
+  for (const std::string& item : apps::splitList(text)) {
+    const double r = apps::parseReal("--resolutions", item);
     if (!(r >= 0.01 && r <= 10.0))
-      throw UsageError("--resolutions: " + item + " m is outside [0.01, 10] m");
+      throw apps::UsageError("--resolutions: " + item + " m is outside [0.01, 10] m");
     out.push_back(r);
   }
-  if (out.empty()) throw UsageError("--resolutions: empty list");
+  if (out.empty()) throw apps::UsageError("--resolutions: empty list");
   return out;
 }
 
 std::vector<SystemKind> parseSystems(const std::string& text) {
   std::vector<SystemKind> out;
-  for (const std::string& item : splitList(text)) {
+  for (const std::string& item : apps::splitList(text)) {
     bool found = false;
     for (const NamedSystem& s : kSystems)
       if (item == s.name) {
         out.push_back(s.kind);
         found = true;
       }
-    if (!found) throw UsageError("--systems: unknown system '" + item + "' (see --help)");
+    if (!found) throw apps::UsageError("--systems: unknown system '" + item + "' (see --help)");
   }
-  if (out.empty()) throw UsageError("--systems: empty list");
+  if (out.empty()) throw apps::UsageError("--systems: empty list");
   return out;
 }
 
 std::vector<int> parseThreads(const std::string& text) {
   std::vector<int> out;
-  for (const std::string& item : splitList(text)) out.push_back(parseCount("--threads", item, 1));
-  if (out.empty()) throw UsageError("--threads: empty list");
+  for (const std::string& item : apps::splitList(text))
+    out.push_back(parseCount("--threads", item, 1));
+  if (out.empty()) throw apps::UsageError("--threads: empty list");
   return out;
 }
 
@@ -98,7 +78,7 @@ BenchOptions parseArguments(int argc, const char* const argv[]) {
       o.quiet = true;
       continue;
     }
-    if (i + 1 >= argc) throw UsageError(arg + ": missing value (see --help)");
+    if (i + 1 >= argc) throw apps::UsageError(arg + ": missing value (see --help)");
     const std::string value = argv[++i];
     if (arg == "--dataset") {
       o.datasets.push_back(value);
@@ -111,8 +91,8 @@ BenchOptions parseArguments(int argc, const char* const argv[]) {
     } else if (arg == "--threads") {
       o.threads = parseThreads(value);
     } else if (arg == "--max-range") {
-      o.max_range = parseNumber(arg, value);
-      if (!(o.max_range > 0)) throw UsageError("--max-range: must be > 0 m");
+      o.max_range = apps::parseReal(arg, value);
+      if (!(o.max_range > 0)) throw apps::UsageError("--max-range: must be > 0 m");
     } else if (arg == "--repeats") {
       o.repeats = parseCount(arg, value, 1);
     } else if (arg == "--csv") {
@@ -120,10 +100,10 @@ BenchOptions parseArguments(int argc, const char* const argv[]) {
     } else if (arg == "--plot") {
       o.plot_prefix = value;
     } else {
-      throw UsageError("unknown option '" + arg + "' (see --help)");
+      throw apps::UsageError("unknown option '" + arg + "' (see --help)");
     }
   }
-  if (!o.help && o.datasets.empty()) throw UsageError("no --dataset given (see --help)");
+  if (!o.help && o.datasets.empty()) throw apps::UsageError("no --dataset given (see --help)");
   return o;
 }
 

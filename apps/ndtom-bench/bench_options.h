@@ -1,7 +1,6 @@
 // Command line of ndtom-bench: which data, which systems, which resolutions, where to write.
 #pragma once
 
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -37,13 +36,7 @@ struct BenchOptions {
   bool help = false;
 };
 
-/// Bad command line; what() is a one-line message for the user.
-class UsageError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-/// Throws UsageError on an unknown option, a missing or malformed value.
+/// Throws apps::UsageError on an unknown option, a missing or malformed value.
 BenchOptions parseArguments(int argc, const char* const argv[]);
 
 std::string helpText(const std::string& program);

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <ctime>
 
-#include "process_memory.h"
+#include "ndtom_apps/process_memory.h"
 
 namespace ndtom::bench {
 
@@ -18,7 +18,8 @@ double processCpuSeconds() {
 
 }  // namespace
 
-RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats, Progress& progress) {
+RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats,
+                    apps::Progress& progress) {
   using Clock = std::chrono::steady_clock;
   RunResult r;
   r.dataset = set.name;
@@ -29,8 +30,8 @@ RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats, Prog
   double insert_seconds = 0;
   size_t points_done = 0;
   for (int rep = 0; rep < repeats; ++rep) {
-    r.peak_rss_valid &= resetPeakRss();
-    const size_t rss_before = currentRssBytes();
+    r.peak_rss_valid &= apps::resetPeakRss();
+    const size_t rss_before = apps::currentRssBytes();
     system.reset();
     std::vector<double> times;
     for (size_t i = 0; i < scans; ++i) {
@@ -48,15 +49,15 @@ RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats, Prog
       }
       insert_seconds += seconds;
       points_done += scan.points.size();
-      progress.update(rep * scans + i + 1, insert_seconds, points_done);
+      progress.update(rep * scans + i + 1, points_done, insert_seconds);
     }
-    const size_t peak = peakRssBytes();
+    const size_t peak = apps::peakRssBytes();
     r.peak_rss_delta = std::max(r.peak_rss_delta, peak > rss_before ? peak - rss_before : 0);
     r.repeat_median_seconds.push_back(quantile(times, 0.5));
     r.scan_seconds.insert(r.scan_seconds.end(), times.begin(), times.end());
   }
   r.map = system.mapSize();
-  progress.finishRun();
+  progress.finish();
   return r;
 }
 

@@ -13,6 +13,7 @@
 #include "machine_info.h"
 #include "map_comparison.h"
 #include "mrpt_grid_system.h"
+#include "ndtom_apps/run_program.h"
 #include "ndtom_system.h"
 #include "octomap_system.h"
 #include "report.h"
@@ -95,7 +96,8 @@ void checkGridSize(const BenchOptions& o, const ScanSet& set, const Box& bounds)
 }
 
 void runDataset(const ScanSet& set, const BenchOptions& o, const std::vector<PlannedRun>& plan,
-                Progress& progress, int& run_index, int total_runs, std::vector<RunResult>& runs) {
+                apps::Progress& progress, int& run_index, int total_runs,
+                std::vector<RunResult>& runs) {
   const Box bounds = rayBounds(set, o.max_range);
   checkGridSize(o, set, bounds);
   for (double resolution : o.resolutions) {
@@ -103,10 +105,10 @@ void runDataset(const ScanSet& set, const BenchOptions& o, const std::vector<Pla
     std::map<std::string, std::unique_ptr<NdtMap>> ndt_maps;  // kept for the comparisons
     for (const PlannedRun& p : plan) {
       std::unique_ptr<MappingSystem> system = makeSystem(p, resolution, o.max_range, bounds);
-      char title[160];
-      std::snprintf(title, sizeof title, "%s %.2f m %s", set.name.c_str(), resolution,
-                    system->label().c_str());
-      progress.startRun(title, ++run_index, total_runs, set.scans.size() * size_t(o.repeats));
+      char title[200];
+      std::snprintf(title, sizeof title, "run %d/%d %s %.2f m %s", ++run_index, total_runs,
+                    set.name.c_str(), resolution, system->label().c_str());
+      progress.start(title, set.scans.size() * size_t(o.repeats));
       RunResult r = runSystem(*system, set, o.repeats, progress);
       r.kind = p.kind;
       r.threads = p.threads;
@@ -163,7 +165,7 @@ int run(const BenchOptions& o) {
   }
   const std::vector<PlannedRun> plan = planRuns(o, threads);
   const int total_runs = int(sets.size() * o.resolutions.size() * plan.size());
-  Progress progress(!o.quiet);
+  apps::Progress progress(!o.quiet);
   std::vector<RunResult> runs;
   int run_index = 0;
   for (const ScanSet& set : sets) runDataset(set, o, plan, progress, run_index, total_runs, runs);
@@ -179,21 +181,12 @@ int run(const BenchOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  BenchOptions options;
-  try {
-    options = parseArguments(argc, argv);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "ndtom-bench: %s\n", e.what());
-    return 2;
-  }
-  if (options.help) {
-    std::cout << helpText(argv[0]);
-    return 0;
-  }
-  try {
+  return apps::runProgram("ndtom-bench", [&] {
+    const BenchOptions options = parseArguments(argc, argv);
+    if (options.help) {
+      std::cout << helpText(argv[0]);
+      return 0;
+    }
     return run(options);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "ndtom-bench: %s\n", e.what());
-    return 1;
-  }
+  });
 }

@@ -1,10 +1,10 @@
 #include "eval_options.h"
 
 #include <algorithm>
-#include <cmath>
 #include <functional>
 #include <map>
-#include <sstream>
+
+#include "ndtom_apps/option_values.h"
 
 namespace ndtom::eval {
 
@@ -12,50 +12,28 @@ namespace {
 
 const std::string kSharedDatasets = std::string(NDTOM_SOURCE_DIR) + "/../shared/datasets";
 
-double parseNumber(const std::string& option, const std::string& text) {
-  size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !std::isfinite(value))
-    throw UsageError(option + ": not a number: '" + text + "'");
-  return value;
-}
-
 int parseCount(const std::string& option, const std::string& text, int min_value) {
-  const double v = parseNumber(option, text);
-  if (v != std::floor(v) || v < min_value || v > 1e6)
-    throw UsageError(option + ": expected an integer >= " + std::to_string(min_value));
-  return int(v);
+  return int(apps::parseInteger(option, text, min_value, 1000000));
 }
 
 double parsePositive(const std::string& option, const std::string& text) {
-  const double v = parseNumber(option, text);
-  if (!(v > 0)) throw UsageError(option + ": must be > 0");
+  const double v = apps::parseReal(option, text);
+  if (!(v > 0)) throw apps::UsageError(option + ": must be > 0");
   return v;
 }
 
 double parseResolution(const std::string& option, const std::string& text) {
-  const double v = parseNumber(option, text);
-  if (!(v >= 0.01 && v <= 10.0)) throw UsageError(option + ": resolution must be in [0.01, 10] m");
+  const double v = apps::parseReal(option, text);
+  if (!(v >= 0.01 && v <= 10.0))
+    throw apps::UsageError(option + ": resolution must be in [0.01, 10] m");
   return v;
-}
-
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream s(text);
-  for (std::string item; std::getline(s, item, ',');)
-    if (!item.empty()) items.push_back(item);
-  return items;
 }
 
 std::vector<double> parseResolutions(const std::string& option, const std::string& text) {
   std::vector<double> values;
-  for (const std::string& item : splitList(text)) values.push_back(parseResolution(option, item));
-  if (values.empty()) throw UsageError(option + ": empty list");
+  for (const std::string& item : apps::splitList(text))
+    values.push_back(parseResolution(option, item));
+  if (values.empty()) throw apps::UsageError(option + ": empty list");
   return values;
 }
 
@@ -63,12 +41,12 @@ std::vector<double> parseResolutions(const std::string& option, const std::strin
 std::set<std::string> parseChoice(const std::string& option, const std::string& text,
                                   const std::vector<std::string>& allowed) {
   std::set<std::string> chosen;
-  for (const std::string& name : splitList(text)) {
+  for (const std::string& name : apps::splitList(text)) {
     if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
-      throw UsageError(option + ": unknown name '" + name + "' (see --help)");
+      throw apps::UsageError(option + ": unknown name '" + name + "' (see --help)");
     chosen.insert(name);
   }
-  if (chosen.empty()) throw UsageError(option + ": empty list");
+  if (chosen.empty()) throw apps::UsageError(option + ": empty list");
   return chosen;
 }
 
@@ -110,8 +88,8 @@ EvalOptions parseEvalOptions(int argc, char** argv) {
       continue;
     }
     const auto setter = setters.find(arg);
-    if (setter == setters.end()) throw UsageError(arg + ": unknown option (see --help)");
-    if (i + 1 >= argc) throw UsageError(arg + ": missing value");
+    if (setter == setters.end()) throw apps::UsageError(arg + ": unknown option (see --help)");
+    if (i + 1 >= argc) throw apps::UsageError(arg + ": missing value");
     setter->second(arg, argv[++i]);
   }
   return o;

@@ -2,16 +2,10 @@
 #pragma once
 
 #include <set>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace ndtom::eval {
-
-class UsageError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 /// The experiments, by the name used on the command line.
 inline const std::vector<std::string> kExperimentNames = {"consistency", "mapping", "multires",
@@ -45,7 +39,7 @@ struct EvalOptions {
   }
 };
 
-/// Throws UsageError with a one-line message for unknown options or bad values.
+/// Throws apps::UsageError with a one-line message for unknown options or bad values.
 EvalOptions parseEvalOptions(int argc, char** argv);
 std::string helpText();
 

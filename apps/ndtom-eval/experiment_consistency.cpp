@@ -4,7 +4,7 @@
 #include "line_plot.h"
 #include "ndtom/batch_ndt.h"
 #include "ndtom/error_refinement.h"
-#include "progress.h"
+#include "ndtom_apps/progress.h"
 
 namespace ndtom::eval {
 
@@ -39,7 +39,8 @@ void batchConsistency(EvalContext& ctx, const std::string& dataset,
                   "ndtom_gaussians", "er_gaussians", "similarity_recursive", "similarity_ndtom",
                   "similarity_er"});
   std::vector<Eigen::Vector3d> points_so_far;
-  Progress progress("fig1 " + dataset, clouds.size());
+  apps::Progress progress;
+  progress.start("fig1 " + dataset, clouds.size());
   for (size_t i = 0; i < clouds.size(); ++i) {
     const Cloud& cloud = clouds[i];
     maps.recursive.insertScan(cloud.points, cloud.origin);
@@ -82,7 +83,8 @@ void selfTest(EvalContext& ctx, const std::string& dataset, const std::vector<Cl
   const GaussianSet er = gaussianSetOf(maps.er, ctx.floor);
   CsvTable table(
       {"cloud", "cloud_gaussians", "similarity_recursive", "similarity_ndtom", "similarity_er"});
-  Progress progress("fig2 " + dataset, clouds.size(), "clouds");
+  apps::Progress progress;
+  progress.start("fig2 " + dataset, clouds.size(), "clouds");
   for (size_t i = 0; i < clouds.size(); ++i) {
     const std::vector<Eigen::Vector3d>& points = clouds[i].points;
     const size_t own = gaussianSetOf(batchNdt(points, geometry), geometry, ctx.floor).size();

@@ -7,7 +7,7 @@
 
 #include "experiments.h"
 #include "line_plot.h"
-#include "progress.h"
+#include "ndtom_apps/progress.h"
 #include "top_view.h"
 
 namespace ndtom::eval {
@@ -132,7 +132,8 @@ MappingMaps runMapping(EvalContext& ctx, const std::vector<Cloud>& clouds, bool 
   MappingMaps maps{NdtMap(recursiveNdtOptions(resolution)), NdtMap(ndtOmOptions(resolution)), {}};
   CsvTable table({"scan", "known_cells", "occupied_cells", "empty_cells", "mean_logodds_occupied",
                   "mean_logodds_empty", "ndtom_gaussians", "recursive_gaussians"});
-  Progress progress("mapping", clouds.size());
+  apps::Progress progress;
+  progress.start("mapping", clouds.size());
   for (size_t i = 0; i < clouds.size(); ++i) {
     maps.recursive.insertScan(clouds[i].points, clouds[i].origin);
     maps.ndtom.insertScan(clouds[i].points, clouds[i].origin);

@@ -4,7 +4,7 @@
 #include <unordered_map>
 
 #include "experiments.h"
-#include "progress.h"
+#include "ndtom_apps/progress.h"
 
 namespace ndtom::eval {
 
@@ -49,7 +49,8 @@ void runRayModes(EvalContext& ctx, const std::vector<Cloud>& clouds) {
                   "occupancy_sign_differs_share", "voxel_visits_per_point",
                   "voxel_visits_per_hit_cell", "visits_ratio", "ms_per_scan_per_point",
                   "ms_per_scan_per_hit_cell", "time_ratio"});
-  Progress progress("raymodes", ctx.options.ray_mode_resolutions.size(), "resolutions");
+  apps::Progress progress;
+  progress.start("raymodes", ctx.options.ray_mode_resolutions.size(), "resolutions");
   for (double resolution : ctx.options.ray_mode_resolutions) {
     const ModeRun per_point = build(resolution, RayMode::PerPoint, clouds);
     const ModeRun hit_cell = build(resolution, RayMode::PerHitCell, clouds);

@@ -4,7 +4,7 @@
 #include "line_plot.h"
 #include "ndtom/batch_ndt.h"
 #include "ndtom/error_refinement.h"
-#include "progress.h"
+#include "ndtom_apps/progress.h"
 
 namespace ndtom::eval {
 
@@ -58,7 +58,8 @@ void runResolutionSweep(EvalContext& ctx, const std::vector<Cloud>& clouds) {
                   "similarity_recursive", "similarity_ndtom", "similarity_er",
                   "memory_recursive_bytes", "memory_ndtom_bytes", "ms_per_scan_recursive",
                   "ms_per_scan_ndtom"});
-  Progress progress("sweep", ctx.options.sweep_resolutions.size(), "resolutions");
+  apps::Progress progress;
+  progress.start("sweep", ctx.options.sweep_resolutions.size(), "resolutions");
   for (double resolution : ctx.options.sweep_resolutions) {
     const BuiltMap recursive = build(recursiveNdtOptions(resolution), clouds);
     const BuiltMap ndtom = build(ndtOmOptions(resolution), clouds);

@@ -1,11 +1,10 @@
 // ndtom-eval: reproduces the evaluation of Saarinen et al. 2013 (Sec. IV) on real data and
 // writes its CSV tables and PNG plots. See doc/evaluation.md for the results.
 #include <cstdio>
-#include <exception>
 #include <filesystem>
-#include <optional>
 
 #include "experiments.h"
+#include "ndtom_apps/run_program.h"
 
 using namespace ndtom::eval;
 
@@ -40,31 +39,26 @@ void runAll(EvalContext& ctx) {
   if (o.runs("raymodes")) runRayModes(ctx, lidar);
 }
 
+int run(const EvalOptions& options) {
+  std::filesystem::create_directories(options.out_dir);
+  Summary summary;
+  EvalContext ctx{options, summary, ndtom::CovarianceFloor{options.min_eigenvalue}, {}};
+  runAll(ctx);
+  summary.write(ctx.output("summary.csv"));
+  summary.print();
+  std::printf("\nWrote %zu files to %s\n", ctx.files_written.size(), options.out_dir.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  EvalOptions options;
-  try {
-    options = parseEvalOptions(argc, argv);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "ndtom-eval: %s\n", e.what());
-    return 2;
-  }
-  if (options.help) {
-    std::fputs(helpText().c_str(), stdout);
-    return 0;
-  }
-  try {
-    std::filesystem::create_directories(options.out_dir);
-    Summary summary;
-    EvalContext ctx{options, summary, ndtom::CovarianceFloor{options.min_eigenvalue}, {}};
-    runAll(ctx);
-    summary.write(ctx.output("summary.csv"));
-    summary.print();
-    std::printf("\nWrote %zu files to %s\n", ctx.files_written.size(), options.out_dir.c_str());
-    return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "ndtom-eval: %s\n", e.what());
-    return 1;
-  }
+  return ndtom::apps::runProgram("ndtom-eval", [&] {
+    const EvalOptions options = parseEvalOptions(argc, argv);
+    if (options.help) {
+      std::fputs(helpText().c_str(), stdout);
+      return 0;
+    }
+    return run(options);
+  });
 }

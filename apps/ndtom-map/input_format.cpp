@@ -2,12 +2,14 @@
 
 #include <filesystem>
 
-#include "text_values.h"
+#include "ndtom_apps/option_values.h"
 
 namespace fs = std::filesystem;
 
 namespace ndtom::mapper {
 namespace {
+
+using apps::UsageError;
 
 bool endsWith(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() &&

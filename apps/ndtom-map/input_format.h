@@ -13,13 +13,13 @@ enum class InputFormat {
   PcdFolder,  ///< folder of PCD scans + a pose file (KITTI poses.txt or TUM trajectory)
 };
 
-/// "rawlog", "simplemap", "tum", "pcd" (and "auto"); throws UsageError otherwise.
+/// "rawlog", "simplemap", "tum", "pcd" (and "auto"); throws apps::UsageError otherwise.
 InputFormat inputFormatFromName(const std::string& name);
 const char* inputFormatName(InputFormat format);
 
 /// The format of `path`: by extension for files (.rawlog[.gz], .simplemap[.gz]), by content
 /// for folders (associations.txt, depth.txt or groundtruth.txt: TUM; *.pcd files: PCD).
-/// Throws UsageError if the path does not exist or matches no format.
+/// Throws apps::UsageError if the path does not exist or matches no format.
 InputFormat detectInputFormat(const std::string& path);
 
 }  // namespace ndtom::mapper

@@ -8,10 +8,18 @@
 #include <functional>
 #include <limits>
 
-#include "text_values.h"
+#include "ndtom_apps/option_values.h"
+#include "ndtom_apps/run_program.h"
 
 namespace ndtom::mapper {
 namespace {
+
+using apps::oneLineMessage;
+using apps::parseBool;
+using apps::parseInteger;
+using apps::parseReal;
+using apps::trim;
+using apps::UsageError;
 
 // Parses `text` for the key and stores it; `option` names the value's origin in errors.
 using Setter =

@@ -32,7 +32,7 @@ struct InsertionSettings {
 
 /// Defaults, then the file's section (every value checked strictly, then loaded through
 /// TInsertionOptions::loadFromConfigFile), then the overrides; the result is validated.
-/// Throws UsageError with a one-line message naming the file, key or option.
+/// Throws apps::UsageError with a one-line message naming the file, key or option.
 InsertionOptions resolveInsertionOptions(const InsertionSettings& settings);
 
 }  // namespace ndtom::mapper

@@ -2,19 +2,17 @@
 // simplemap, TUM RGB-D sequence, PCD folder) and writes the map, an MRPT map object, a 3D
 // scene, pictures and a summary. Exit code 0 on success, 1 for bad input data or a failed
 // write, 2 for a bad command line.
-#include <unistd.h>
-
 #include <chrono>
 #include <cstdio>
 
 #include "map_builder.h"
 #include "map_outputs.h"
 #include "mapper_options.h"
+#include "ndtom_apps/process_memory.h"
+#include "ndtom_apps/run_program.h"
 #include "oblique_view.h"
-#include "process_memory.h"
 #include "run_summary.h"
 #include "scan_source.h"
-#include "text_values.h"
 
 using namespace ndtom::mapper;
 
@@ -53,7 +51,7 @@ RunSummary summarize(const MapperOptions& o, const SourceSettings& settings,
   summary.threads = o.threads;
   summary.mapping = &mapping;
   summary.coarse = coarse;
-  summary.peak_rss = peakRssBytes();
+  summary.peak_rss = ndtom::apps::peakRssBytes();
   summary.total_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
@@ -69,11 +67,11 @@ int run(const MapperOptions& o) {
   if (!o.quiet) std::fprintf(stderr, "ndtom-map: %s\n", source->description().c_str());
 
   // Insert the scans.
-  Progress progress(!o.quiet);
+  ndtom::apps::Progress progress(!o.quiet);
   MappingResult mapping = buildMap(std::move(source), settings,
                                    {insertion.toMapOptions(), o.threads, o.passes}, progress);
   requireSomePoints(mapping, o.input);
-  const size_t peak_rss_after_mapping = peakRssBytes();
+  const size_t peak_rss_after_mapping = ndtom::apps::peakRssBytes();
 
   // Write the outputs (under temporary names until everything has succeeded).
   mrpt_ndtom::CNDTOccupancyMap map(insertion.resolution);
@@ -97,21 +95,12 @@ int run(const MapperOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  MapperOptions options;
-  try {
-    options = parseMapperOptions(argc, argv);
+  return ndtom::apps::runProgram("ndtom-map", [&] {
+    const MapperOptions options = parseMapperOptions(argc, argv);
     if (options.help) {
       std::fputs(helpText().c_str(), stdout);
       return 0;
     }
     return run(options);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "ndtom-map: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    // After a progress bar on a terminal, start a fresh line.
-    std::fprintf(stderr, "%sndtom-map: %s\n", isatty(STDERR_FILENO) ? "\n" : "",
-                 oneLineMessage(e).c_str());
-    return 1;
-  }
+  });
 }

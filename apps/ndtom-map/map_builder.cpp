@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "process_memory.h"
+#include "ndtom_apps/process_memory.h"
 
 namespace ndtom::mapper {
 namespace {
@@ -22,13 +22,13 @@ PassResult describeMap(const ndtom::NdtMap& map) {
     if (c.logodds < 0) ++r.free;
   });
   r.map_bytes = map.memoryBytes();
-  r.rss_bytes = currentRssBytes();
+  r.rss_bytes = apps::currentRssBytes();
   return r;
 }
 
 // One pass: every scan of `source` into `result.map`.
 void insertAll(ScanSource& source, const ndtom::InsertOptions& insert, bool first_pass,
-               MappingResult& result, Progress& progress) {
+               MappingResult& result, apps::Progress& progress) {
   size_t done = 0, points = 0;
   while (auto scan = source.next()) {
     const auto start = Clock::now();
@@ -47,16 +47,18 @@ void insertAll(ScanSource& source, const ndtom::InsertOptions& insert, bool firs
 }  // namespace
 
 MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings& settings,
-                       const BuildSettings& build, Progress& progress) {
+                       const BuildSettings& build, apps::Progress& progress) {
   MappingResult result{ndtom::NdtMap(build.map), {}, {}, {}, {}, {}, source->description()};
   ndtom::InsertOptions insert = build.map.insertion;
   insert.threads = build.threads;
   for (int pass = 1; pass <= build.passes; ++pass) {
     if (pass > 1) source = openScanSource(settings);
     const auto start = Clock::now();
-    progress.startPass(pass, build.passes, source->size());
+    progress.start(
+        build.passes > 1 ? "pass " + std::to_string(pass) + "/" + std::to_string(build.passes) : "",
+        source->size());
     insertAll(*source, insert, pass == 1, result, progress);
-    progress.finishPass();
+    progress.finish();
     if (pass == 1) result.skips = source->skips();
     PassResult r = describeMap(result.map);
     r.scans = source->size();

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "ndtom/ndt_map.h"
-#include "progress.h"
+#include "ndtom_apps/progress.h"
 #include "scan_source.h"
 
 namespace ndtom::mapper {
@@ -40,6 +40,6 @@ struct BuildSettings {
 /// Inserts every scan of `source` (already opened from `settings`), then reopens the input
 /// for each further pass. Throws InputError for unreadable data or a bad scan.
 MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings& settings,
-                       const BuildSettings& build, Progress& progress);
+                       const BuildSettings& build, apps::Progress& progress);
 
 }  // namespace ndtom::mapper

@@ -6,10 +6,14 @@
 #include <sstream>
 #include <vector>
 
-#include "text_values.h"
+#include "ndtom_apps/option_values.h"
 
 namespace ndtom::mapper {
 namespace {
+
+using apps::parseInteger;
+using apps::parseReal;
+using apps::UsageError;
 
 using Handler = std::function<void(MapperOptions&, const std::string& value)>;
 

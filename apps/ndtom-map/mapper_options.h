@@ -35,7 +35,7 @@ struct MapperOptions {
   bool help = false;
 };
 
-/// Throws UsageError with a one-line message for unknown options, missing or bad values.
+/// Throws apps::UsageError with a one-line message for unknown options, missing or bad values.
 MapperOptions parseMapperOptions(int argc, char** argv);
 std::string helpText();
 

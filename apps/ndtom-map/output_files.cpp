@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "ndtom/atomic_file.h"
-#include "text_values.h"
+#include "ndtom_apps/option_values.h"
 
 namespace fs = std::filesystem;
 
@@ -15,7 +15,7 @@ OutputFiles::OutputFiles(const std::string& prefix) : prefix_(prefix) {
   std::error_code ec;
   if (!folder.empty()) fs::create_directories(folder, ec);
   if (ec || (!folder.empty() && !fs::is_directory(folder)))
-    throw UsageError("-o " + prefix + ": cannot create the folder " + folder.string());
+    throw apps::UsageError("-o " + prefix + ": cannot create the folder " + folder.string());
 }
 
 OutputFiles::~OutputFiles() {

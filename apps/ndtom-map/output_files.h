@@ -12,7 +12,7 @@ namespace ndtom::mapper {
 
 class OutputFiles {
  public:
-  /// Outputs are PREFIX + suffix. Creates PREFIX's folder if needed; throws UsageError if it
+  /// Outputs are PREFIX + suffix. Creates PREFIX's folder if needed; throws apps::UsageError if it
   /// cannot.
   explicit OutputFiles(const std::string& prefix);
   /// Removes the temporaries of a set that was not committed.

@@ -11,8 +11,8 @@
 #include <fstream>
 
 #include "mrpt_ndtom/observation_points.h"
+#include "ndtom_apps/run_program.h"
 #include "scan_source.h"
-#include "text_values.h"
 
 namespace ndtom::mapper {
 
@@ -39,7 +39,8 @@ mrpt::serialization::CSerializable::Ptr RawlogReader::readObject() {
     throw InputError(path_ + ": truncated inside entry " + std::to_string(entries_ + 1));
   } catch (const std::exception& e) {
     throw InputError(path_ + ": entry " + std::to_string(entries_ + 1) +
-                     " is damaged or truncated, or this is no rawlog (" + oneLineMessage(e) + ")");
+                     " is damaged or truncated, or this is no rawlog (" + apps::oneLineMessage(e) +
+                     ")");
   }
 }
 

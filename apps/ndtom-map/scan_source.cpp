@@ -1,6 +1,6 @@
 #include "scan_source.h"
 
-#include "text_values.h"
+#include "ndtom_apps/option_values.h"
 
 namespace ndtom::mapper {
 
@@ -19,7 +19,7 @@ std::unique_ptr<ScanSource> openScanSource(const SourceSettings& settings) {
     case InputFormat::Auto:
       break;
   }
-  throw UsageError(s.input + ": unknown input format");
+  throw apps::UsageError(s.input + ": unknown input format");
 }
 
 }  // namespace ndtom::mapper

@@ -63,7 +63,7 @@ struct SourceSettings {
 };
 
 /// Opens the input (detecting its format if Auto) and checks it can be read completely:
-/// files exist, poses match the scans. Throws UsageError or InputError.
+/// files exist, poses match the scans. Throws apps::UsageError or InputError.
 std::unique_ptr<ScanSource> openScanSource(const SourceSettings& settings);
 
 // One factory per format (source_*.cpp); `settings.format` is already decided.

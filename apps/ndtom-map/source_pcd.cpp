@@ -5,9 +5,9 @@
 #include <sstream>
 
 #include "natural_order.h"
+#include "ndtom_apps/option_values.h"
 #include "ndtom_io/pcd_reader.h"
 #include "scan_source.h"
-#include "text_values.h"
 
 namespace fs = std::filesystem;
 
@@ -27,7 +27,8 @@ std::vector<std::string> pcdFilesInNaturalOrder(const std::string& folder) {
 class PcdFolderSource : public ScanSource {
  public:
   explicit PcdFolderSource(const SourceSettings& s) : folder_(s.input), decimation_(s.decimation) {
-    if (!fs::is_directory(folder_)) throw UsageError(folder_ + ": not a folder of .pcd files");
+    if (!fs::is_directory(folder_))
+      throw apps::UsageError(folder_ + ": not a folder of .pcd files");
     files_ = pcdFilesInNaturalOrder(folder_);
     if (files_.empty()) throw InputError(folder_ + ": no .pcd files");
     poses_path_ = s.poses_file.empty() ? (fs::path(folder_) / "poses.txt").string() : s.poses_file;

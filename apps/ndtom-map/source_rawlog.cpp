@@ -5,9 +5,10 @@
 #include <sstream>
 
 #include "mrpt_ndtom/observation_points.h"
+#include "ndtom_apps/option_values.h"
+#include "ndtom_apps/run_program.h"
 #include "rawlog_reader.h"
 #include "scan_source.h"
-#include "text_values.h"
 #include "trajectory_poses.h"
 
 namespace ndtom::mapper {
@@ -21,7 +22,8 @@ class RawlogSource : public ScanSource {
  public:
   explicit RawlogSource(const SourceSettings& s)
       : path_(s.input), extraction_{s.decimation, s.decimation_3d_range} {
-    if (std::filesystem::is_directory(path_)) throw UsageError(path_ + ": a folder, not a rawlog");
+    if (std::filesystem::is_directory(path_))
+      throw apps::UsageError(path_ + ": a folder, not a rawlog");
     if (!s.poses_file.empty())
       trajectory_.emplace(s.poses_file, s.pose_format, s.pose_time_tolerance);
     survey(s.max_scans);
@@ -99,7 +101,7 @@ class RawlogSource : public ScanSource {
       scan.points_world = std::move(points->points_world);
       scan.sensor_origin = points->sensor_origin;
     } catch (const std::exception& e) {
-      throw InputError(path_ + ": " + scan.name + ": " + oneLineMessage(e));
+      throw InputError(path_ + ": " + scan.name + ": " + apps::oneLineMessage(e));
     }
     return scan;
   }

@@ -10,14 +10,16 @@
 #include <sstream>
 
 #include "mrpt_ndtom/observation_points.h"
+#include "ndtom_apps/option_values.h"
+#include "ndtom_apps/run_program.h"
 #include "scan_source.h"
-#include "text_values.h"
 
 namespace ndtom::mapper {
 namespace {
 
 mrpt::maps::CSimpleMap loadSimplemap(const std::string& path) {
-  if (std::filesystem::is_directory(path)) throw UsageError(path + ": a folder, not a simplemap");
+  if (std::filesystem::is_directory(path))
+    throw apps::UsageError(path + ": a folder, not a simplemap");
   mrpt::io::CFileGZInputStream file;
   if (!std::ifstream(path).good() || !file.open(path))
     throw InputError(path + ": cannot open the file");
@@ -26,7 +28,7 @@ mrpt::maps::CSimpleMap loadSimplemap(const std::string& path) {
     auto archive = mrpt::serialization::archiveFrom(file);
     archive >> map;
   } catch (const std::exception& e) {
-    throw InputError(path + ": not a readable CSimpleMap: " + oneLineMessage(e));
+    throw InputError(path + ": not a readable CSimpleMap: " + apps::oneLineMessage(e));
   }
   return map;
 }
@@ -36,7 +38,7 @@ class SimplemapSource : public ScanSource {
   explicit SimplemapSource(const SourceSettings& s)
       : path_(s.input), extraction_{s.decimation, s.decimation_3d_range} {
     if (!s.poses_file.empty())
-      throw UsageError("--poses: not used for simplemaps (their keyframes carry the poses)");
+      throw apps::UsageError("--poses: not used for simplemaps (their keyframes carry the poses)");
     map_ = loadSimplemap(path_);
     for (size_t k = 0; k < map_.size(); ++k) {
       const auto& [pose, frame] = map_.getAsPair(k);
@@ -70,7 +72,7 @@ class SimplemapSource : public ScanSource {
       scan.points_world = std::move(points->points_world);
       scan.sensor_origin = points->sensor_origin;
     } catch (const std::exception& e) {
-      throw InputError(path_ + ": " + scan.name + ": " + oneLineMessage(e));
+      throw InputError(path_ + ": " + scan.name + ": " + apps::oneLineMessage(e));
     }
     return scan;
   }

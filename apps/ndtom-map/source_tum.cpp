@@ -1,9 +1,9 @@
 // A TUM RGB-D sequence folder: depth PNGs with the camera's ground-truth poses.
 #include <sstream>
 
+#include "ndtom_apps/option_values.h"
 #include "ndtom_io/tum_rgbd.h"
 #include "scan_source.h"
-#include "text_values.h"
 
 namespace ndtom::mapper {
 namespace {
@@ -13,13 +13,13 @@ class TumSource : public ScanSource {
   explicit TumSource(const SourceSettings& s)
       : folder_(s.input), camera_(s.camera), decimation_(s.decimation_3d_range) {
     if (!s.poses_file.empty())
-      throw UsageError(
+      throw apps::UsageError(
           "--poses: not used for TUM RGB-D sequences (the folder's ground truth "
           "gives the poses)");
     try {
       camera_.validate();
     } catch (const std::exception& e) {
-      throw UsageError(std::string("TUM camera: ") + e.what());
+      throw apps::UsageError(std::string("TUM camera: ") + e.what());
     }
     try {
       sequence_ = ndtom::io::readTumSequence(folder_);

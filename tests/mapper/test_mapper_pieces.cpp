@@ -9,9 +9,9 @@
 #include "json_writer.h"
 #include "mapper_run.h"
 #include "natural_order.h"
+#include "ndtom_apps/run_program.h"
 #include "run_summary.h"
 #include "scan_source.h"
-#include "text_values.h"
 #include "trajectory_poses.h"
 
 using namespace ndtom::mapper;
@@ -34,28 +34,13 @@ TEST(NaturalOrder, NumbersCompareByValue) {
   EXPECT_TRUE(naturalLess("a", "a0"));
 }
 
-TEST(TextValues, StrictParsing) {
-  EXPECT_EQ(parseReal("--x", "0.25"), 0.25);
-  EXPECT_THROW(parseReal("--x", "0.25m"), UsageError);
-  EXPECT_THROW(parseReal("--x", ""), UsageError);
-  EXPECT_THROW(parseReal("--x", "inf"), UsageError);
-  EXPECT_TRUE(std::isinf(parseReal("--x", "inf", /*allow_infinity=*/true)));
-  EXPECT_THROW(parseReal("--x", "nan", true), UsageError);
-  EXPECT_EQ(parseInteger("--n", "12", 1, 20), 12);
-  EXPECT_THROW(parseInteger("--n", "21", 1, 20), UsageError);
-  EXPECT_THROW(parseInteger("--n", "1.5", 1, 20), UsageError);
-  EXPECT_TRUE(parseBool("--b", "Yes"));
-  EXPECT_FALSE(parseBool("--b", "0"));
-  EXPECT_THROW(parseBool("--b", "on"), UsageError);  // MRPT's read_bool would read false
-}
-
-TEST(TextValues, OneLineOfAnMrptException) {
+// The strict value parsers are tested with the rest of libs/ndtom_apps (tests/apps).
+TEST(ErrorMessages, OneLineOfAnMrptException) {
   try {
     THROW_EXCEPTION("[section] p_hit = 2: must be in (0.5, 1)");
   } catch (const std::exception& e) {
-    EXPECT_EQ(oneLineMessage(e), "[section] p_hit = 2: must be in (0.5, 1)");
+    EXPECT_EQ(ndtom::apps::oneLineMessage(e), "[section] p_hit = 2: must be in (0.5, 1)");
   }
-  EXPECT_EQ(oneLineMessage(std::runtime_error("plain")), "plain");
 }
 
 TEST(InsertionSettings, FileThenCommandLine) {

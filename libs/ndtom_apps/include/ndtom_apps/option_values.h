@@ -1,0 +1,34 @@
+// Strict parsing of option values, from the command line or a configuration file: the whole
+// text must be the value, or UsageError names the option and the text. (std::atof and MRPT's
+// own .ini readers turn "abc" into 0 and "0.3x" into 0.3 without a word.)
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ndtom::apps {
+
+/// A bad command line or configuration value; the message is one line naming the option.
+/// Programs exit with status 2 on it (see runProgram).
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A real number; never NaN; "inf" only if `allow_infinity`; out of double's range is an error.
+double parseReal(const std::string& option, const std::string& text, bool allow_infinity = false);
+/// An integer in [min_value, max_value].
+int64_t parseInteger(const std::string& option, const std::string& text, int64_t min_value,
+                     int64_t max_value);
+/// true/yes/1 or false/no/0, any case (the words MRPT's read_bool understands alike).
+bool parseBool(const std::string& option, const std::string& text);
+
+/// The items of a comma-separated list, empty ones left out ("0.1,,0.2," has two).
+std::vector<std::string> splitList(const std::string& text);
+
+/// `text` without leading and trailing blanks.
+std::string trim(const std::string& text);
+
+}  // namespace ndtom::apps

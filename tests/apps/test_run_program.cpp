@@ -1,0 +1,42 @@
+// main()'s error handling: exit status 2 for a bad command line, 1 for other failures, the
+// body's own status otherwise; one line "program: message" on stderr (captured: no terminal).
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "ndtom_apps/option_values.h"
+#include "ndtom_apps/run_program.h"
+
+using ndtom::apps::oneLineMessage;
+using ndtom::apps::runProgram;
+using ndtom::apps::UsageError;
+
+TEST(RunProgram, ReturnsTheBodysStatus) {
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(runProgram("prog", [] { return 0; }), 0);
+  EXPECT_EQ(runProgram("prog", [] { return 3; }), 3);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+}
+
+TEST(RunProgram, UsageErrorIsStatusTwo) {
+  testing::internal::CaptureStderr();
+  const int status = runProgram("ndtom-x", []() -> int { throw UsageError("--n: missing value"); });
+  EXPECT_EQ(status, 2);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "ndtom-x: --n: missing value\n");
+}
+
+TEST(RunProgram, OtherFailuresAreStatusOneOnOneLine) {
+  testing::internal::CaptureStderr();
+  const int status = runProgram("ndtom-x", []() -> int {
+    throw std::runtime_error(
+        "==== MRPT exception ====\nMessage: cannot open a.rawlog\nat f.cpp:3\n");
+  });
+  EXPECT_EQ(status, 1);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "ndtom-x: cannot open a.rawlog\n");
+}
+
+TEST(OneLineMessage, PlainMessagesStayAsTheyAre) {
+  EXPECT_EQ(oneLineMessage(std::runtime_error("plain")), "plain");
+  EXPECT_EQ(oneLineMessage(std::runtime_error("first\nsecond")), "first");
+}
