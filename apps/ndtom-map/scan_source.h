@@ -41,12 +41,17 @@ class ScanSource {
  public:
   virtual ~ScanSource() = default;
   /// Scans next() will yield in all (known when the source is opened).
-  virtual size_t size() const = 0;
+  size_t size() const { return size_; }
   /// The next scan, or nullopt at the end. Throws InputError on unreadable data.
   virtual std::optional<Scan> next() = 0;
   /// One line: format, path, what poses are used.
   virtual std::string description() const = 0;
-  virtual SourceSkips skips() const { return {}; }
+  SourceSkips skips() const { return skips_; }
+
+ protected:
+  // Kept by each format's source: its constructor sets the size, next() counts the skips.
+  size_t size_ = 0;
+  SourceSkips skips_;
 };
 
 /// Everything a source needs from the command line.

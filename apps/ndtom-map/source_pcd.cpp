@@ -46,8 +46,6 @@ class PcdFolderSource : public ScanSource {
     size_ = limitScans(files_.size(), s.max_scans);
   }
 
-  size_t size() const override { return size_; }
-
   std::optional<Scan> next() override {
     if (index_ >= size_) return std::nullopt;
     const std::string path = (fs::path(folder_) / files_[index_]).string();
@@ -76,15 +74,12 @@ class PcdFolderSource : public ScanSource {
     return s.str();
   }
 
-  SourceSkips skips() const override { return skips_; }
-
  private:
   std::string folder_, poses_path_;
   uint32_t decimation_;
   std::vector<std::string> files_;
   std::vector<ndtom::io::StampedPose> poses_;
-  size_t size_ = 0, index_ = 0;
-  SourceSkips skips_;
+  size_t index_ = 0;
 };
 
 }  // namespace

@@ -30,8 +30,6 @@ class RawlogSource : public ScanSource {
     reader_ = std::make_unique<RawlogReader>(path_);
   }
 
-  size_t size() const override { return size_; }
-
   std::optional<Scan> next() override {
     while (yielded_ < size_) {
       auto entry = reader_->next();
@@ -59,12 +57,6 @@ class RawlogSource : public ScanSource {
     return s.str();
   }
 
-  SourceSkips skips() const override {
-    SourceSkips s = skips_;
-    s.unsupported_observations = unsupported_;
-    return s;
-  }
-
  private:
   // First reading: counts the scans and checks that poses exist for them.
   void survey(size_t max_scans) {
@@ -76,7 +68,7 @@ class RawlogSource : public ScanSource {
       if (entry->odometry_pose) ++with_odometry;
     }
     observations_ = times.size();
-    unsupported_ = reader.unsupportedObservations();
+    skips_.unsupported_observations = reader.unsupportedObservations();
     if (times.empty())
       throw InputError(path_ + ": no scans (2D or 3D range scans, point clouds, Velodyne scans)");
     if (trajectory_) {
@@ -110,9 +102,7 @@ class RawlogSource : public ScanSource {
   mrpt_ndtom::TPointExtractionOptions extraction_;
   std::optional<TrajectoryPoses> trajectory_;
   std::unique_ptr<RawlogReader> reader_;
-  size_t observations_ = 0, unsupported_ = 0, size_ = 0;
-  size_t observation_index_ = 0, yielded_ = 0;
-  SourceSkips skips_;
+  size_t observations_ = 0, observation_index_ = 0, yielded_ = 0;
 };
 
 }  // namespace

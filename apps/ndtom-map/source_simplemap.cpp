@@ -56,8 +56,6 @@ class SimplemapSource : public ScanSource {
     size_ = limitScans(scans_.size(), s.max_scans);
   }
 
-  size_t size() const override { return size_; }
-
   std::optional<Scan> next() override {
     if (index_ >= size_) return std::nullopt;
     const auto [keyframe, slot] = scans_[index_++];
@@ -84,15 +82,12 @@ class SimplemapSource : public ScanSource {
     return s.str();
   }
 
-  SourceSkips skips() const override { return skips_; }
-
  private:
   std::string path_;
   mrpt_ndtom::TPointExtractionOptions extraction_;
   mrpt::maps::CSimpleMap map_;
   std::vector<std::pair<size_t, size_t>> scans_;  ///< (keyframe, observation in its frame)
-  size_t size_ = 0, index_ = 0;
-  SourceSkips skips_;
+  size_t index_ = 0;
 };
 
 }  // namespace

@@ -32,8 +32,6 @@ class TumSource : public ScanSource {
     size_ = limitScans(sequence_.frames.size(), s.max_scans);
   }
 
-  size_t size() const override { return size_; }
-
   std::optional<Scan> next() override {
     if (index_ >= size_) return std::nullopt;
     const ndtom::io::TumFrame& frame = sequence_.frames[index_++];
@@ -63,15 +61,12 @@ class TumSource : public ScanSource {
     return s.str();
   }
 
-  SourceSkips skips() const override { return skips_; }
-
  private:
   std::string folder_;
   ndtom::io::DepthCamera camera_;
   uint32_t decimation_;
   ndtom::io::TumSequence sequence_;
-  size_t size_ = 0, index_ = 0;
-  SourceSkips skips_;
+  size_t index_ = 0;
 };
 
 }  // namespace
