@@ -35,6 +35,15 @@ void writePoints(JsonWriter& j, const ndtom::InsertionReport& p, const SourceSki
   j.endObject();
 }
 
+// What the map holds after a pass: the same fields in "map" and in each of "passes".
+void writeMapCounts(JsonWriter& j, const PassResult& p) {
+  j.field("cells", p.cells);
+  j.field("gaussians", p.gaussians);
+  j.field("occupied_cells", p.occupied);
+  j.field("free_cells", p.free);
+  j.field("map_bytes", p.map_bytes);
+}
+
 void writePasses(JsonWriter& j, const std::vector<PassResult>& passes) {
   j.beginArray("passes");
   for (size_t i = 0; i < passes.size(); ++i) {
@@ -42,11 +51,7 @@ void writePasses(JsonWriter& j, const std::vector<PassResult>& passes) {
     j.beginObject();
     j.field("pass", i + 1);
     j.field("scans", p.scans);
-    j.field("cells", p.cells);
-    j.field("gaussians", p.gaussians);
-    j.field("occupied_cells", p.occupied);
-    j.field("free_cells", p.free);
-    j.field("map_bytes", p.map_bytes);
+    writeMapCounts(j, p);
     j.field("rss_bytes", p.rss_bytes);
     j.field("seconds", p.seconds);
     j.endObject();
@@ -73,11 +78,7 @@ void writeMapAndCosts(JsonWriter& j, const RunSummary& s) {
   const MappingResult& m = *s.mapping;
   const PassResult& last = m.passes.back();
   j.beginObject("map");
-  j.field("cells", last.cells);
-  j.field("gaussians", last.gaussians);
-  j.field("occupied_cells", last.occupied);
-  j.field("free_cells", last.free);
-  j.field("map_bytes", last.map_bytes);
+  writeMapCounts(j, last);
   j.endObject();
   if (s.coarse) {
     j.beginObject("coarse_map");
