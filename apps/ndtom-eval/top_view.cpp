@@ -1,6 +1,5 @@
 #include "top_view.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,12 +7,13 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "ndtom_apps/xy_ellipse.h"
+
 namespace ndtom::eval {
 
 namespace {
 constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
 const cv::Scalar kText{20, 20, 20};
-constexpr double kRadToDeg = 180.0 / M_PI;
 }  // namespace
 
 cv::Scalar viridis(double t) {
@@ -50,15 +50,11 @@ cv::Point2d TopView::toPixel(double x, double y) const {
 }
 
 void TopView::drawEllipse(const Gaussian& g, const cv::Scalar& color) {
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(g.covariance.topLeftCorner<2, 2>());
-  const Eigen::Vector2d sigma = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
-  const Eigen::Vector2d major = eig.eigenvectors().col(1);
-  // Image y points down: the angle flips sign.
-  const double angle = -std::atan2(major.y(), major.x()) * kRadToDeg;
-  const cv::Size axes(std::max(1, int(std::lround(sigma[1] / metres_per_pixel_))),
-                      std::max(1, int(std::lround(sigma[0] / metres_per_pixel_))));
-  cv::ellipse(image_, cv::Point(toPixel(g.mean.x(), g.mean.y())), axes, angle, 0, 360, color,
-              cv::FILLED, cv::LINE_AA);
+  const apps::XyEllipse e = apps::xyEllipse(g.covariance);
+  const cv::Size axes(std::max(1, int(std::lround(e.sigma_major / metres_per_pixel_))),
+                      std::max(1, int(std::lround(e.sigma_minor / metres_per_pixel_))));
+  cv::ellipse(image_, cv::Point(toPixel(g.mean.x(), g.mean.y())), axes, e.image_angle, 0, 360,
+              color, cv::FILLED, cv::LINE_AA);
 }
 
 void TopView::drawGaussians(const std::vector<Gaussian>& gaussians, const cv::Scalar& color) {

@@ -1,12 +1,12 @@
 #include "top_view.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "ndtom_apps/xy_ellipse.h"
 #include "picture_layout.h"
 
 namespace ndtom::mapper {
@@ -122,13 +122,12 @@ size_t drawGaussians(const ndtom::NdtMap& map, const Frame& f, const HeightScale
             [](const auto& a, const auto& b) { return a.mean.z() < b.mean.z(); });
   const double unit = 1 << kSubpixelBits;
   for (const auto& g : gaussians) {
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(g.covariance.topLeftCorner<2, 2>());
-    const Eigen::Vector2d sigma = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt() * f.pixels_per_metre;
-    const Eigen::Vector2d major = eig.eigenvectors().col(1);
-    const double angle = -std::atan2(major.y(), major.x()) * 180.0 / M_PI;  // image y points down
+    const apps::XyEllipse e = apps::xyEllipse(g.covariance);
+    const double major = std::max(e.sigma_major * f.pixels_per_metre, 0.7),
+                 minor = std::max(e.sigma_minor * f.pixels_per_metre, 0.7);
     const cv::Point2d c = f.toPixel(g.mean.x(), g.mean.y());
-    const cv::Size axes(int(std::max(sigma[1], 0.7) * unit), int(std::max(sigma[0], 0.7) * unit));
-    cv::ellipse(view, cv::Point(int(c.x * unit), int(c.y * unit)), axes, angle, 0, 360,
+    cv::ellipse(view, cv::Point(int(c.x * unit), int(c.y * unit)),
+                cv::Size(int(major * unit), int(minor * unit)), e.image_angle, 0, 360,
                 scale.bgr(g.mean.z()), cv::FILLED, cv::LINE_AA, kSubpixelBits);
   }
   return gaussians.size();
