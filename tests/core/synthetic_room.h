@@ -7,6 +7,8 @@
 #include <random>
 #include <vector>
 
+#include "ndtom/ndt_map.h"
+
 namespace ndtom::testing {
 
 inline const Eigen::Vector3d kRoomSensor(0.3, -0.2, 1.5);
@@ -46,6 +48,15 @@ inline std::vector<Eigen::Vector3d> sampleRoom(size_t n, unsigned seed, double n
     }
   }
   return points;
+}
+
+/// A map of one scan of `n` room points (seed 1) from kRoomSensor, in `resolution` m cells.
+inline NdtMap roomMap(double resolution, size_t n) {
+  MapOptions options;
+  options.resolution = resolution;
+  NdtMap map(options);
+  map.insertScan(sampleRoom(n, 1), kRoomSensor);
+  return map;
 }
 
 }  // namespace ndtom::testing

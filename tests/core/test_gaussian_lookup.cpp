@@ -18,11 +18,7 @@ using ndtom::NdtMap;
 namespace {
 
 NdtMap roomMap(double resolution) {
-  ndtom::MapOptions options;
-  options.resolution = resolution;
-  NdtMap map(options);
-  map.insertScan(ndtom::testing::sampleRoom(40000, 1), ndtom::testing::kRoomSensor);
-  return map;
+  return ndtom::testing::roomMap(resolution, 40000);
 }
 
 }  // namespace

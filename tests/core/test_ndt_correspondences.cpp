@@ -19,11 +19,7 @@ using ndtom::NdtMap;
 namespace {
 
 NdtMap roomMap(double resolution) {
-  ndtom::MapOptions options;
-  options.resolution = resolution;
-  NdtMap map(options);
-  map.insertScan(ndtom::testing::sampleRoom(60000, 1), ndtom::testing::kRoomSensor);
-  return map;
+  return ndtom::testing::roomMap(resolution, 60000);
 }
 
 struct Expected {

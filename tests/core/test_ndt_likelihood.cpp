@@ -17,11 +17,7 @@ using ndtom::NdtMap;
 namespace {
 
 NdtMap roomMap() {
-  ndtom::MapOptions options;
-  options.resolution = 0.4;
-  NdtMap map(options);
-  map.insertScan(ndtom::testing::sampleRoom(60000, 1), ndtom::testing::kRoomSensor);
-  return map;
+  return ndtom::testing::roomMap(0.4, 60000);
 }
 
 // Σ_p log((1 − c)·max over cells within one step of p's cell of exp(−½ d²) + c).
