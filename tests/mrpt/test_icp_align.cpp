@@ -9,30 +9,14 @@
 #include <Eigen/Geometry>
 #include <iostream>
 
+#include "balm_scans.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom_io/pcd_reader.h"
-#include "ndtom_io/pose_file.h"
 
 using mrpt::poses::CPose3D;
 using mrpt_ndtom::CNDTOccupancyMap;
+using ndtom::testing::balmScan;
 
 namespace {
-
-const std::string kBalm = std::string(NDTOM_TEST_DATA_DIR) + "/balm-realworld";
-
-CPose3D toPose(const Eigen::Isometry3d& t) {
-  mrpt::math::CMatrixDouble44 m;
-  m.asEigen() = t.matrix();
-  return CPose3D(m);
-}
-
-mrpt::maps::CSimplePointsMap::Ptr loadScan(int i) {
-  const auto cloud = ndtom::io::readPcd(kBalm + "/full" + std::to_string(i) + ".pcd");
-  auto points = mrpt::maps::CSimplePointsMap::Create();
-  for (const auto& p : cloud.points)
-    if (p.allFinite() && p.norm() > 0.5) points->insertPoint(p.x(), p.y(), p.z());
-  return points;
-}
 
 struct Fixture {
   std::vector<CPose3D> poses;
@@ -41,14 +25,13 @@ struct Fixture {
 
 // The map of every scan but `left_out`, inserted as MRPT point-cloud observations.
 void buildMap(Fixture& f, int left_out) {
-  for (const auto& p : ndtom::io::readPoseFile(kBalm + "/poses.txt"))
-    f.poses.push_back(toPose(p.pose));
+  f.poses = ndtom::testing::balmPoses();
   ASSERT_EQ(f.poses.size(), 10u);
   f.map.insertionOptions.max_range = 30.0;
   for (int i = 0; i < 10; ++i) {
     if (i == left_out) continue;
     mrpt::obs::CObservationPointCloud obs;
-    obs.pointcloud = loadScan(i);
+    obs.pointcloud = balmScan(i);
     ASSERT_TRUE(f.map.insertObservation(obs, f.poses[i]));
   }
 }
@@ -70,7 +53,7 @@ TEST(IcpAlign, RecoversAKnownPerturbationOfARealScan) {
   Fixture f;
   const int k = 5;
   buildMap(f, k);
-  const auto scan = loadScan(k);
+  const auto scan = balmScan(k);
   ASSERT_GT(scan->size(), 20000u);
 
   const double deg = M_PI / 180;
@@ -103,7 +86,7 @@ TEST(IcpAlign, RecoversAKnownPerturbationOfARealScan) {
 TEST(IcpAlign, MatchingPairsPointToTheSurface) {
   Fixture f;
   buildMap(f, -1);
-  const auto scan = loadScan(3);
+  const auto scan = balmScan(3);
   mrpt::tfest::TMatchingPairList pairs;
   mrpt::maps::TMatchingParams params;
   params.maxDistForCorrespondence = 0.5;

@@ -16,23 +16,17 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
+#include "balm_scans.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom_io/pcd_reader.h"
-#include "ndtom_io/pose_file.h"
 #include "ndtom_io/tum_rgbd.h"
 
 using mrpt::poses::CPose3D;
 using mrpt_ndtom::CNDTOccupancyMap;
+using ndtom::testing::toPose;
 
 namespace {
 
 const std::string kTumDir = std::string(NDTOM_SOURCE_DIR) + "/share/data/tum-fr2-pioneer-slam2";
-
-CPose3D toPose(const Eigen::Isometry3d& t) {
-  mrpt::math::CMatrixDouble44 m;
-  m.asEigen() = t.matrix();
-  return CPose3D(m);
-}
 
 // A TUM depth PNG as an MRPT depth observation. MRPT's depth frame is x forward, y left,
 // z up; TUM's optical frame is x right, y down, z forward: the sensor pose on the "robot"
@@ -96,24 +90,16 @@ std::vector<CPose3D> tumConstrainedOffsets() {
   return out;
 }
 
-const std::string kBalm = std::string(NDTOM_TEST_DATA_DIR) + "/balm-realworld";
-
 mrpt::obs::CObservationPointCloud lidarObservation(int i) {
-  const auto cloud = ndtom::io::readPcd(kBalm + "/full" + std::to_string(i) + ".pcd");
-  auto points = mrpt::maps::CSimplePointsMap::Create();
-  for (const auto& p : cloud.points)
-    if (p.allFinite() && p.norm() > 0.5) points->insertPoint(p.x(), p.y(), p.z());
   mrpt::obs::CObservationPointCloud obs;
-  obs.pointcloud = points;
+  obs.pointcloud = ndtom::testing::balmScan(i);
   return obs;
 }
 
 }  // namespace
 
 TEST(LikelihoodReal, TrueLidarPoseBeatsEveryOffset) {
-  std::vector<CPose3D> poses;
-  for (const auto& p : ndtom::io::readPoseFile(kBalm + "/poses.txt"))
-    poses.push_back(toPose(p.pose));
+  const std::vector<CPose3D> poses = ndtom::testing::balmPoses();
   ASSERT_EQ(poses.size(), 10u);
   std::vector<mrpt::obs::CObservationPointCloud> scans;
   for (int i = 0; i < 10; ++i) scans.push_back(lidarObservation(i));
