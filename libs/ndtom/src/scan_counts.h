@@ -13,26 +13,13 @@
 
 namespace ndtom {
 
-/// Counters are read and zeroed in groups of 8 (32 bytes); `dirty` marks the groups that
-/// rays touched, so a block crossed by one ray costs a few groups, not all 512 counters.
+/// Counters are read in groups of 8 (32 bytes), most of which are zero.
 inline constexpr int kCountGroup = 8;
-static_assert(kBlockCells / kCountGroup == 64, "one dirty bit per counter group");
 
 struct CountBlock {
   std::array<uint32_t, kBlockCells> count;
-  uint64_t dirty;
 
-  void zero() {
-    std::memset(count.data(), 0, sizeof(count));
-    dirty = 0;
-  }
-  /// Zeroes the dirty groups only (the others are zero already).
-  void zeroDirty() {
-    for (uint64_t d = dirty; d != 0; d &= d - 1)
-      std::memset(&count[size_t(__builtin_ctzll(d)) * kCountGroup], 0,
-                  kCountGroup * sizeof(uint32_t));
-    dirty = 0;
-  }
+  void zero() { std::memset(count.data(), 0, sizeof(count)); }
 };
 
 class ScanCounts {
@@ -71,7 +58,7 @@ class ScanCounts {
     reset();
   }
   void zeroBlock(size_t i) { blocks_[i].zero(); }
-  /// After every block was zeroed (CountBlock::zero or zeroDirty).
+  /// After every block was zeroed by zeroBlock().
   void reset() {
     // Erasing entry by entry would break linear-probe chains; the table is small (16 bytes
     // per slot, under 4 slots per 2 KiB block), so wipe it whole.
@@ -139,13 +126,10 @@ class CountingWalker {
   explicit CountingWalker(ScanCounts& counts) : counts_(&counts) {}
   void setWeight(uint32_t w) { weight_ = w; }
   size_t visits() const { return visits_; }
-  /// Call after the last ray, so the current block's dirty groups are recorded.
-  void finish() { flushDirty(); }
 
   void start(const CellIndex& c) {
     const CellIndex b = blockOf(c);
     if (!block_counts_ || b != block_) {  // rays share their origin's block
-      flushDirty();
       block_ = b;
       block_counts_ = &counts_->blockAt(b);
     }
@@ -168,30 +152,22 @@ class CountingWalker {
     local_[Axis] &= kBlockEdge - 1;
     offset_ = (local_[2] << (2 * kBlockLog2)) | (local_[1] << kBlockLog2) | local_[0];
     block_[Axis] += step;
-    flushDirty();
     block_counts_ = &counts_->blockAt(block_);
   }
 
   bool visit() {
     block_counts_->count[offset_] += weight_;
-    dirty_ |= uint64_t(1) << (uint32_t(offset_) / kCountGroup);  // one bit per counter group
     ++visits_;
     return true;
   }
 
  private:
-  void flushDirty() {
-    if (block_counts_) block_counts_->dirty |= dirty_;
-    dirty_ = 0;
-  }
-
   ScanCounts* counts_;
   CountBlock* block_counts_ = nullptr;
   CellIndex block_;
   int32_t local_[3] = {0, 0, 0};
   int32_t offset_ = 0;  ///< of the current cell in its block
   uint32_t weight_ = 1;
-  uint64_t dirty_ = 0;  ///< groups of the current block visited since it was entered
   size_t visits_ = 0;
 };
 

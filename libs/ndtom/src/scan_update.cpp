@@ -17,11 +17,9 @@ constexpr size_t kMinRaysPerThread = 256;
 constexpr size_t kMinGroupsPerThread = 2048;
 constexpr size_t kMinBlocksPerThread = 32;
 
-void widen(CellIndex& lo, CellIndex& hi, const CellIndex& c) {
-  for (int a = 0; a < 3; ++a) {
-    lo[a] = std::min(lo[a], c[a]);
-    hi[a] = std::max(hi[a], c[a]);
-  }
+inline void widen(CellIndex& lo, CellIndex& hi, const CellIndex& c) {
+  lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
+  hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
 }
 
 }  // namespace
@@ -124,6 +122,7 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
 void ScanUpdater::groupEndsByCell() {
   s_.groups.clear();
   s_.ray_ends.clear();
+  group_means_ready_ = false;
   const size_t used = report_.pointsUsed();
   if (used == 0) return;
   // Block-major dense index within the ends' bounding box, so each block's groups are
@@ -163,11 +162,12 @@ void ScanUpdater::groupEndsByCell() {
       continue;
     }
     const bool hit = (s_.ray_ends[i].key & 1) != 0;
-    s_.groups.push_back(
-        {s_.end_cells[s_.ray_ends[i].point], uint32_t(i), 1, hit, Eigen::Vector3d::Zero()});
+    s_.groups.push_back({s_.end_cells[s_.ray_ends[i].point], uint32_t(i), 1, hit,
+                         Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
     report_.cells_hit += hit;
   }
-  if (options_.ray_mode != RayMode::PerHitCell || !map_.options().occupancy.enabled) return;
+  group_means_ready_ = options_.ray_mode == RayMode::PerHitCell && map_.options().occupancy.enabled;
+  if (!group_means_ready_) return;
 
   // One ray per group, to the mean of its ends.
   const size_t threads = threadsFor(s_.groups.size(), kMinGroupsPerThread);
@@ -176,10 +176,10 @@ void ScanUpdater::groupEndsByCell() {
     for (size_t group = first; group < last; ++group) {
       EndGroup& g = s_.groups[group];
       const Eigen::Vector3d centre = map_.geometry().cellCenter(g.cell);
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      for (uint32_t i = g.begin; i < g.begin + g.count; ++i)
-        sum += s_.sorted_ends[i] - centre;
-      g.mean_end = centre + sum / double(g.count);
+      g.mean = Eigen::Vector3d::Zero();
+      for (uint32_t i = g.begin; i < g.begin + g.count; ++i) g.mean += s_.sorted_ends[i] - centre;
+      g.mean /= double(g.count);
+      g.mean_end = centre + g.mean;
     }
   });
 }
@@ -190,8 +190,12 @@ CellStats ScanUpdater::groupStats(const EndGroup& g) const {
   const uint32_t end = g.begin + g.count;
   CellStats stats;
   stats.n = g.count;
-  for (uint32_t i = g.begin; i < end; ++i) stats.mean += s_.sorted_ends[i] - centre;
-  stats.mean /= double(g.count);
+  if (group_means_ready_) {
+    stats.mean = g.mean;
+  } else {
+    for (uint32_t i = g.begin; i < end; ++i) stats.mean += s_.sorted_ends[i] - centre;
+    stats.mean /= double(g.count);
+  }
   for (uint32_t i = g.begin; i < end; ++i) {
     const Eigen::Vector3d d = s_.sorted_ends[i] - centre - stats.mean;
     stats.scatter += d * d.transpose();
@@ -224,7 +228,6 @@ void ScanUpdater::traceFreeRays() {
         count = walkRay(geometry, origin_, s_.groups[i].mean_end, count);
       }
     }
-    count.finish();
     visits[t] = count.visits();
   });
   report_.rays_cast = rays;
@@ -244,7 +247,8 @@ void ScanUpdater::allocateForApply() {
       for (size_t i = 0; i < s_.counts[t].numBlocks(); ++i)
         merged.blockAt(s_.counts[t].blockIndex(i));
     for (size_t i = 0; i < s_.groups.size(); ++i)  // a block's groups are contiguous
-      if (s_.groups[i].hit && (i == 0 || blockOf(s_.groups[i].cell) != blockOf(s_.groups[i - 1].cell)))
+      if (s_.groups[i].hit &&
+          (i == 0 || blockOf(s_.groups[i].cell) != blockOf(s_.groups[i - 1].cell)))
         merged.blockAt(blockOf(s_.groups[i].cell));
     const size_t blocks = merged.numBlocks();
     s_.other_counts.resize(blocks * (tables - 1));
@@ -323,8 +327,7 @@ void ScanUpdater::applyToMap() {
   });
   collect(apply_threads_);
   runParallel(hit_threads_, [&](size_t t) {
-    applyHits(s_.hit_part_starts[t], s_.hit_part_starts[t + 1], s_.apply_parts[t],
-              s_.new_stats[t]);
+    applyHits(s_.hit_part_starts[t], s_.hit_part_starts[t + 1], s_.apply_parts[t], s_.new_stats[t]);
   });
   collect(hit_threads_);
   for (size_t t = 0; t < hit_threads_; ++t)
@@ -346,16 +349,14 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
     for (size_t t = 0; t < others; ++t) {
       CountBlock* other = s_.other_counts[b * others + t];
       if (!other) continue;
-      for (uint64_t d = other->dirty; d != 0; d &= d - 1) {
-        const int g = __builtin_ctzll(d) * kCountGroup;
-        for (int i = g; i < g + kCountGroup; ++i) counts.count[i] += other->count[i];
-      }
-      counts.dirty |= other->dirty;
-      other->zeroDirty();
+      for (int k = 0; k < kBlockCells; ++k) counts.count[k] += other->count[k];
+      other->zero();
     }
     NdtMap::Block& block = *s_.map_blocks[b];
-    for (uint64_t d = counts.dirty; d != 0; d &= d - 1) {
-      const int g = __builtin_ctzll(d) * kCountGroup;
+    for (int g = 0; g < kBlockCells; g += kCountGroup) {
+      uint32_t any = 0;  // tracking touched groups in the DDA would cost more than this test
+      for (int k = 0; k < kCountGroup; ++k) any |= counts.count[g + k];
+      if (any == 0) continue;
       for (int i = g; i < g + kCountGroup; ++i) {
         const uint32_t n = counts.count[i];
         if (n == 0) continue;
@@ -379,7 +380,7 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
         block.logodds[i] = float(std::clamp(double(block.logodds[i]) + double(n) * miss, lo, hi));
       }
     }
-    counts.zeroDirty();  // while it is in cache
+    counts.zero();  // while it is in cache
   }
 }
 

@@ -22,7 +22,8 @@ struct EndGroup {
   uint32_t begin;  ///< its rays are ray_ends[begin, begin + count), ends in sorted_ends
   uint32_t count;
   bool hit;
-  Eigen::Vector3d mean_end;  ///< mean of the ray ends (per-hit-cell mode only)
+  Eigen::Vector3d mean;      ///< of the ray ends, relative to the cell centre (see below)
+  Eigen::Vector3d mean_end;  ///< the same in the world frame: per-hit-cell mode's ray end
 };
 
 /// What classification made of one input point.
@@ -40,9 +41,9 @@ struct ScanScratch {
   std::vector<Eigen::Vector3d> sorted_ends;  ///< ends in ray_ends' order: groups read them in a row
   std::vector<uint32_t> group_starts;
   std::vector<EndGroup> groups;
-  std::vector<ScanCounts> counts;  ///< one per tracing thread; counts[0] also gets the union
-  size_t counts_used = 0;          ///< tables filled by this scan's tracing
-  std::vector<CountBlock*> other_counts;   ///< [block * (counts_used-1) + t-1], or nullptr
+  std::vector<ScanCounts> counts;         ///< one per tracing thread; counts[0] also gets the union
+  size_t counts_used = 0;                 ///< tables filled by this scan's tracing
+  std::vector<CountBlock*> other_counts;  ///< [block * (counts_used-1) + t-1], or nullptr
   std::vector<NdtMap::Block*> map_blocks;  ///< the map's block of each counts[0] block
   std::vector<CellIndex> created_blocks;   ///< map blocks this scan created, for a rollback
   /// What one thread of the free-space update did.
@@ -87,7 +88,8 @@ class ScanUpdater {
   ScanScratch& s_;
   InsertionReport report_;
   Eigen::Vector3d origin_;
-  CellIndex ends_lo_, ends_hi_;  ///< bounding box of the ray ends' cells
+  CellIndex ends_lo_, ends_hi_;     ///< bounding box of the ray ends' cells
+  bool group_means_ready_ = false;  ///< EndGroup::mean and mean_end are computed
   size_t classify_threads_ = 1, apply_threads_ = 1, hit_threads_ = 1;
 };
 
