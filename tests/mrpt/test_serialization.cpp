@@ -154,6 +154,128 @@ TEST(Serialization, UnknownVersionAndDamagedDataThrow) {
   EXPECT_THROW(readBack(truncated), std::exception);
 }
 
+namespace {
+
+std::vector<uint8_t> archiveBytes(const mrpt::serialization::CSerializable& object) {
+  mrpt::io::CMemoryStream buffer;
+  mrpt::serialization::archiveFrom(buffer) << object;
+  const auto* raw = static_cast<const uint8_t*>(buffer.getRawBufferData());
+  return {raw, raw + buffer.getTotalBytesCount()};
+}
+
+template <class Options>
+std::vector<uint8_t> optionBytes(const Options& options) {
+  mrpt::io::CMemoryStream buffer;
+  auto archive = mrpt::serialization::archiveFrom(buffer);
+  options.writeToStream(archive);
+  const auto* raw = static_cast<const uint8_t*>(buffer.getRawBufferData());
+  return {raw, raw + buffer.getTotalBytesCount()};
+}
+
+size_t offsetOf(const std::vector<uint8_t>& haystack, const std::vector<uint8_t>& needle) {
+  const auto at = std::search(haystack.begin(), haystack.end(), needle.begin(), needle.end());
+  EXPECT_NE(at, haystack.end());
+  return size_t(at - haystack.begin());
+}
+
+testing::AssertionResult contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return testing::AssertionSuccess();
+  return testing::AssertionFailure() << "\"" << part << "\" not in: " << text.substr(0, 400);
+}
+
+// Reads `bytes` into `map`; returns the exception's message ("" if none was thrown).
+std::string readInto(CNDTOccupancyMap& map, const std::vector<uint8_t>& bytes) {
+  mrpt::io::CMemoryStream in;
+  in.assignMemoryNotOwn(bytes.data(), bytes.size());
+  try {
+    mrpt::serialization::archiveFrom(in).ReadObject(&map);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// An archive of sampleMap() and where its parts are, to damage them one by one.
+struct Archive {
+  CNDTOccupancyMap::Ptr map = sampleMap();
+  std::vector<uint8_t> bytes = archiveBytes(*map);
+  size_t insertion = offsetOf(bytes, optionBytes(map->insertionOptions));
+  size_t likelihood = offsetOf(bytes, optionBytes(map->likelihoodOptions));
+  size_t render = offsetOf(bytes, optionBytes(map->renderOptions));
+  size_t map_data = offsetOf(bytes, ndtom::encodeMap(map->ndtMap()));
+  size_t map_size = map_data - 8;  // uint64 byte count
+
+  template <class T>
+  std::string readWith(size_t at, T value) const {
+    auto damaged = bytes;
+    std::memcpy(damaged.data() + at, &value, sizeof(value));
+    CNDTOccupancyMap read;
+    return readInto(read, damaged);
+  }
+};
+
+}  // namespace
+
+TEST(Serialization, CorruptSizeFieldFailsAtTheEndOfTheData) {
+  const Archive a;
+  ASSERT_EQ(a.readWith(a.map_size, uint64_t(a.bytes.size() - a.map_data - 1)), "")
+      << "sanity: the size field is where expected";
+  // Sizes far beyond the data (exabytes, or just past it) are read in chunks: they fail when
+  // the data runs out, never in one huge allocation (which ASan would report).
+  for (const uint64_t size :
+       {~uint64_t(0), uint64_t(1) << 62, uint64_t(1) << 40, uint64_t(a.bytes.size())})
+    EXPECT_TRUE(contains(a.readWith(a.map_size, size), "the archive ends inside the map data"))
+        << size;
+  EXPECT_TRUE(contains(a.readWith(a.map_size, uint64_t(3)), "MRPT archive"));
+}
+
+TEST(Serialization, CorruptOptionsAreRejectedByName) {
+  const Archive a;
+  // Offsets inside each option block: a version byte, then the fields in writeToStream order.
+  EXPECT_TRUE(contains(a.readWith(a.insertion + 1, -0.2), "resolution"));
+  EXPECT_TRUE(contains(a.readWith(a.insertion + 9, uint8_t(7)),
+                       "insertionOptions.occupancy_enabled: stored bool is 7"));
+  EXPECT_TRUE(contains(a.readWith(a.insertion + 10, 4e4), "p_hit"));
+  EXPECT_TRUE(contains(a.readWith(a.insertion + 58, int32_t(5)), "insertionOptions.ray_mode = 5"));
+  EXPECT_TRUE(contains(a.readWith(a.insertion + 62, uint32_t(0)), "decimation"));
+  EXPECT_TRUE(contains(a.readWith(a.likelihood + 1, uint32_t(0)), "likelihoodOptions: decimation"));
+  EXPECT_TRUE(contains(a.readWith(a.likelihood + 17, uint8_t(2)),
+                       "likelihoodOptions.search_neighbours: stored bool is 2"));
+  EXPECT_TRUE(contains(a.readWith(a.render + 9, uint32_t(30)), "renderOptions: subdivisions = 30"));
+  EXPECT_TRUE(contains(a.readWith(a.render + 41, int32_t(99)), "renderOptions.colormap = 99"));
+  EXPECT_TRUE(contains(a.readWith(a.render + 45, uint8_t(0xff)),
+                       "renderOptions.show_free_cells: stored bool is 255"));
+  // genericMapParams is MRPT's own object: name, version byte, then its three bools.
+  const std::string generic = "mrpt::maps::TMapGenericParams";
+  const size_t generic_at = offsetOf(a.bytes, {generic.begin(), generic.end()}) + generic.size();
+  EXPECT_TRUE(contains(a.readWith(generic_at + 2, uint8_t(5)),
+                       "genericMapParams.enableObservationLikelihood: stored bool is 5"));
+}
+
+TEST(Serialization, FailedReadLeavesTheMapUnchanged) {
+  const Archive a;
+  auto damaged = a.bytes;
+  damaged[a.map_data + 60] ^= 0x10;  // the core's checksum fails, after all options were read
+  CNDTOccupancyMap map(0.4);
+  map.insertionOptions.p_hit = 0.7;
+  map.renderOptions.quantiles = 2.0;
+  map.insertPoints(randomScan(5), Vector3d::Zero());
+  const auto before = archiveBytes(map);
+  EXPECT_TRUE(contains(readInto(map, damaged), "checksum"));
+  EXPECT_EQ(archiveBytes(map), before);
+  // Damage in another part, and truncated archives.
+  EXPECT_NE(a.readWith(a.render + 41, int32_t(-7)), "");
+  // Every length through the options, then 200 lengths through the map data.
+  for (size_t length = 0; length < a.bytes.size();
+       length += length < a.map_data ? 1 : a.bytes.size() / 200 + 1) {
+    const std::vector<uint8_t> cut(a.bytes.begin(), a.bytes.begin() + long(length));
+    ASSERT_NE(readInto(map, cut), "") << length;
+    ASSERT_EQ(archiveBytes(map), before) << length;
+  }
+  EXPECT_EQ(readInto(map, a.bytes), "");
+  expectSameMaps(*a.map, map);
+}
+
 TEST(Serialization, CoarsenedCopyIsTheCoresMultiResolutionMap) {
   const auto map = sampleMap();
   const auto coarse = map->getCoarsened(3);

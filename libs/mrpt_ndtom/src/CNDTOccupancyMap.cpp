@@ -1,11 +1,11 @@
 // CNDTOccupancyMap: registration, construction, options, serialization.
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 
-#include <mrpt/core/initializer.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
 
+#include "archive_checks.h"
 #include "ndtom/map_io.h"
 
 using mrpt_ndtom::CNDTOccupancyMap;
@@ -42,10 +42,15 @@ mrpt::maps::CMetricMap* CNDTOccupancyMap::internal_CreateFromMapDefinition(
 IMPLEMENTS_SERIALIZABLE(CNDTOccupancyMap, CMetricMap, mrpt_ndtom)
 
 // Without this, deserialising the class (and so copying a CMultiMetricMap, as rbpf-slam
-// does) fails with "class not registered".
-MRPT_INITIALIZER(registerAllClasses_mrpt_ndtom) {
-  mrpt::rtti::registerClass(CLASS_ID(mrpt_ndtom::CNDTOccupancyMap));
-}
+// does) fails with "class not registered". A static object rather than MRPT_INITIALIZER: the
+// runtimeClassId defined just above is initialised at run time (it holds a std::function),
+// and only a variable defined after it in this file is sure to be initialised after it. An
+// __attribute__((constructor)) function may run first (clang does): it registered an empty id.
+namespace {
+struct RegisterClasses {
+  RegisterClasses() { mrpt::rtti::registerClass(CLASS_ID(mrpt_ndtom::CNDTOccupancyMap)); }
+} const register_classes;
+}  // namespace
 
 namespace mrpt_ndtom {
 namespace {
@@ -60,6 +65,27 @@ bool sameOptions(const ndtom::MapOptions& a, const ndtom::MapOptions& b) {
          a.insertion.ray_mode == b.insertion.ray_mode &&
          a.regularization.min_eigen_ratio == b.regularization.min_eigen_ratio &&
          a.regularization.min_eigen_abs == b.regularization.min_eigen_abs;
+}
+
+// The `size` bytes of the map data, read in chunks so that a corrupt size fails at the end of
+// the data present, not in one huge allocation.
+std::vector<uint8_t> readMapBytes(mrpt::serialization::CArchive& in, uint64_t size) {
+  constexpr uint64_t kChunk = uint64_t(1) << 20;
+  std::vector<uint8_t> bytes;
+  try {
+    while (bytes.size() < size) {
+      size_t offset = bytes.size();
+      bytes.resize(offset + size_t(std::min(kChunk, size - offset)));
+      // ReadBuffer may return less than asked (e.g. at the end); it throws when nothing is left.
+      while (offset < bytes.size())
+        offset += in.ReadBuffer(bytes.data() + offset, bytes.size() - offset);
+    }
+  } catch (const std::exception&) {
+    THROW_EXCEPTION(mrpt::format(
+        "CNDTOccupancyMap: the archive ends inside the map data (%llu bytes announced)",
+        static_cast<unsigned long long>(size)));
+  }
+  return bytes;
 }
 
 ndtom::MapOptions withResolution(double resolution) {
@@ -199,24 +225,34 @@ void CNDTOccupancyMap::serializeTo(mrpt::serialization::CArchive& out) const {
   out.WriteBuffer(bytes.data(), bytes.size());
 }
 
+// Corrupt data throws a std::exception naming the problem and leaves the map as it was:
+// everything is read and checked first.
 void CNDTOccupancyMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
   switch (version) {
     case 0: {
-      insertionOptions.readFromStream(in);
-      likelihoodOptions.readFromStream(in);
-      renderOptions.readFromStream(in);
-      in >> genericMapParams;
+      TInsertionOptions insertion;
+      TLikelihoodOptions likelihood;
+      TRenderOptions render;
+      mrpt::maps::TMapGenericParams generic;
+      insertion.readFromStream(in);
+      likelihood.readFromStream(in);
+      render.readFromStream(in);
+      in >> generic;
+      detail::checkBoolBytes(generic.enableSaveAs3DObject, "genericMapParams.enableSaveAs3DObject");
+      detail::checkBoolBytes(generic.enableObservationLikelihood,
+                             "genericMapParams.enableObservationLikelihood");
+      detail::checkBoolBytes(generic.enableObservationInsertion,
+                             "genericMapParams.enableObservationInsertion");
       uint64_t size = 0;
       in >> size;
-      // In chunks, so that a corrupt size fails at the end of the data, not in malloc.
-      std::vector<uint8_t> bytes;
-      constexpr uint64_t kChunk = uint64_t(1) << 20;
-      while (bytes.size() < size) {
-        const size_t offset = bytes.size();
-        bytes.resize(offset + size_t(std::min(kChunk, size - offset)));
-        in.ReadBuffer(bytes.data() + offset, bytes.size() - offset);
-      }
-      m_map = ndtom::decodeMap(bytes.data(), bytes.size(), "MRPT archive (CNDTOccupancyMap)");
+      const std::vector<uint8_t> bytes = readMapBytes(in, size);
+      ndtom::NdtMap map =
+          ndtom::decodeMap(bytes.data(), bytes.size(), "MRPT archive (CNDTOccupancyMap)");
+      insertionOptions = insertion;
+      likelihoodOptions = likelihood;
+      renderOptions = render;
+      genericMapParams = generic;
+      m_map = std::move(map);
       m_last_report = {};
       invalidateLookup();
     } break;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "archive_checks.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 #include "ndtom/ndt_likelihood.h"
 
@@ -29,6 +30,16 @@ void validateSection(const std::string& section, F&& validate) {
     validate();
   } catch (const std::invalid_argument& e) {
     THROW_EXCEPTION(mrpt::format("[%s] %s", section.c_str(), e.what()));
+  }
+}
+
+// Runs a validation of options read from an archive; rethrows naming the option struct.
+template <class F>
+void validateStored(const char* what, F&& validate) {
+  try {
+    validate();
+  } catch (const std::invalid_argument& e) {
+    THROW_EXCEPTION(mrpt::format("%s: %s", what, e.what()));
   }
 }
 
@@ -104,20 +115,29 @@ void CNDTOccupancyMap::TInsertionOptions::writeToStream(mrpt::serialization::CAr
       << min_eigen_ratio << min_eigen_abs;
 }
 
+// Reads into a copy and validates it: corrupt data throws (naming the option) and leaves the
+// options as they were.
 void CNDTOccupancyMap::TInsertionOptions::readFromStream(mrpt::serialization::CArchive& in) {
   uint8_t version;
   in >> version;
+  TInsertionOptions read;
   switch (version) {
     case 0: {
       int32_t mode;
-      in >> resolution >> occupancy_enabled >> p_hit >> p_miss >> logodds_min >> logodds_max >>
-          min_range >> max_range >> mode >> decimation >> decimation_3d_range >> min_eigen_ratio >>
-          min_eigen_abs;
-      ray_mode = ndtom::RayMode(mode);
+      in >> read.resolution;
+      read.occupancy_enabled = detail::readBool(in, "insertionOptions.occupancy_enabled");
+      in >> read.p_hit >> read.p_miss >> read.logodds_min >> read.logodds_max >> read.min_range >>
+          read.max_range >> mode >> read.decimation >> read.decimation_3d_range >>
+          read.min_eigen_ratio >> read.min_eigen_abs;
+      if (mode != int32_t(ndtom::RayMode::PerPoint) && mode != int32_t(ndtom::RayMode::PerHitCell))
+        THROW_EXCEPTION(mrpt::format("insertionOptions.ray_mode = %d: unknown ray mode", mode));
+      read.ray_mode = ndtom::RayMode(mode);
     } break;
     default:
       MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
   }
+  validateStored("insertionOptions", [&read] { read.toMapOptions(); });
+  *this = read;
 }
 
 bool CNDTOccupancyMap::TInsertionOptions::operator==(const TInsertionOptions& o) const {
@@ -178,17 +198,22 @@ void CNDTOccupancyMap::TLikelihoodOptions::writeToStream(mrpt::serialization::CA
       << min_range << max_range << scale;
 }
 
+// As TInsertionOptions::readFromStream: validated, unchanged on error.
 void CNDTOccupancyMap::TLikelihoodOptions::readFromStream(mrpt::serialization::CArchive& in) {
   uint8_t version;
   in >> version;
+  TLikelihoodOptions read;
   switch (version) {
     case 0:
-      in >> decimation >> decimation_3d_range >> outlier_likelihood >> search_neighbours >>
-          min_range >> max_range >> scale;
+      in >> read.decimation >> read.decimation_3d_range >> read.outlier_likelihood;
+      read.search_neighbours = detail::readBool(in, "likelihoodOptions.search_neighbours");
+      in >> read.min_range >> read.max_range >> read.scale;
       break;
     default:
       MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
   }
+  validateStored("likelihoodOptions", [&read] { read.validate(); });
+  *this = read;
 }
 
 bool CNDTOccupancyMap::TLikelihoodOptions::operator==(const TLikelihoodOptions& o) const {

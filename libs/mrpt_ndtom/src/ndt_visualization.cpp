@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "archive_checks.h"
+
 namespace mrpt_ndtom {
 namespace {
 
@@ -119,6 +121,10 @@ mrpt::opengl::CPointCloudColoured::Ptr freeCells(const ndtom::NdtMap& map,
   return cloud;
 }
 
+bool isColormap(int32_t value) {
+  return value >= int32_t(mrpt::img::cmNONE) && value <= int32_t(mrpt::img::cmHOT);
+}
+
 }  // namespace
 
 size_t trianglesPerEllipsoid(uint32_t subdivisions) {
@@ -135,6 +141,8 @@ void TRenderOptions::validate() const {
     msg << "free_cell_point_size = " << free_cell_point_size << ": must be > 0";
   else if (std::isnan(min_logodds))
     msg << "min_logodds: must not be NaN";
+  else if (!isColormap(int32_t(colormap)))
+    msg << "colormap = " << int32_t(colormap) << ": unknown colormap";
   if (!msg.str().empty()) throw std::invalid_argument(msg.str());
 }
 
@@ -169,19 +177,33 @@ void TRenderOptions::writeToStream(mrpt::serialization::CArchive& out) const {
       << free_cell_point_size;
 }
 
+// Reads into a copy and validates it: corrupt data throws (naming the option) and leaves the
+// options as they were.
 void TRenderOptions::readFromStream(mrpt::serialization::CArchive& in) {
   uint8_t version;
   in >> version;
+  TRenderOptions read;
   switch (version) {
     case 0: {
       int32_t cmap;
-      in >> quantiles >> subdivisions >> max_ellipsoids >> min_logodds >> color_min_z >>
-          color_max_z >> cmap >> show_free_cells >> max_free_cells >> free_cell_point_size;
-      colormap = mrpt::img::TColormap(cmap);
+      in >> read.quantiles >> read.subdivisions >> read.max_ellipsoids >> read.min_logodds >>
+          read.color_min_z >> read.color_max_z >> cmap;
+      read.show_free_cells = detail::readBool(in, "renderOptions.show_free_cells");
+      in >> read.max_free_cells >> read.free_cell_point_size;
+      // Not every int is a TColormap (an unscoped enum without a fixed type): check first.
+      if (!isColormap(cmap))
+        THROW_EXCEPTION(mrpt::format("renderOptions.colormap = %d: unknown colormap", cmap));
+      read.colormap = mrpt::img::TColormap(cmap);
     } break;
     default:
       MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
   }
+  try {
+    read.validate();
+  } catch (const std::invalid_argument& e) {
+    THROW_EXCEPTION(std::string("renderOptions: ") + e.what());
+  }
+  *this = read;
 }
 
 bool TRenderOptions::operator==(const TRenderOptions& o) const {
