@@ -9,6 +9,9 @@ scripts/setup.sh
 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNDTOM_SANITIZE=ON \
   -DNDTOM_WITH_MRPT=ON -DNDTOM_BUILD_APPS=ON -DNDTOM_BUILD_TESTS=ON >/dev/null
 cmake --build "$dir" -j2
+# Suppressions only for reports from MRPT's code, each explained in its file.
+supp=$PWD/tests/sanitizers
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
-export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export LSAN_OPTIONS=suppressions=$supp/lsan.supp:print_suppressions=0
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$supp/ubsan.supp
 ctest --test-dir "$dir" -j2 --output-on-failure

@@ -182,8 +182,14 @@ TEST(MrptPrograms, RbpfSlamMapsWithTheNdtMapInItsParticles) {
                 dir.path, dir.path / "cut.log"),
             0)
       << readFile(dir.path / "cut.log");
-  std::ofstream(dir.path / "rbpf.ini")
-      << withValues(readFile(kShare + "/rbpf-slam_ndtom.ini"), {{"rawlog_file", "short.rawlog"}});
+  // A fixed seed: without one rbpf-slam seeds its random numbers from the clock, and the
+  // worst distance below was 0.57, 1.03 and 1.76 m in three runs. With seeds 1-5: 0.45-0.75 m,
+  // the same in the sanitizer build.
+  std::string ini =
+      withValues(readFile(kShare + "/rbpf-slam_ndtom.ini"), {{"rawlog_file", "short.rawlog"}});
+  const std::string section = "[MappingApplication]\n";
+  ini.insert(ini.find(section) + section.size(), "RANDOM_SEED = 1\n");
+  std::ofstream(dir.path / "rbpf.ini") << ini;
   ASSERT_EQ(run("timeout 600 " + preload() + "rbpf-slam rbpf.ini", dir.path, dir.path / "rbpf.log"),
             0)
       << readFile(dir.path / "rbpf.log");
@@ -239,10 +245,14 @@ TEST(MrptPrograms, GuiProgramsStartWithThePluginUnderXvfb) {
   CNDTOccupancyMap map(0.5);
   map.insertPoints({{2, 0, 0}, {2, 0.1, 0.1}, {2, 0.2, 0}, {2.1, 0, 0.2}}, {0, 0, 0});
   map.saveMetricMapRepresentationToFile((dir.path / "scene").string());
-  const std::vector<std::pair<std::string, std::string>> programs = {
+  std::vector<std::pair<std::string, std::string>> programs = {
       {"RawLogViewer", "'" + kDatasets + "/tests_rgbd.rawlog'"},
-      {"SceneViewer3D", "scene.3Dscene"},
   };
+#ifndef NDTOM_ASAN_RUNTIME
+  // Not in the sanitizer build: with the ASan runtime preloaded, SceneViewer3D hangs in GTK's
+  // start-up (a glibc locale lock, in bindtextdomain), also without the plugin.
+  programs.emplace_back("SceneViewer3D", "scene.3Dscene");
+#endif
   for (const auto& [program, file] : programs) {
     const fs::path log = dir.path / (program + ".log");
     // Still running when the timeout stops it (124): it started and did not crash.
