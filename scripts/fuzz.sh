@@ -9,10 +9,14 @@ cd "$(dirname "$0")/.."
 seconds=${1:-45}
 scripts/setup.sh --with-fuzz
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DNDTOM_FUZZ=ON -DNDTOM_BUILD_TESTS=OFF -DNDTOM_BUILD_APPS=OFF -DNDTOM_WITH_MRPT=OFF >/dev/null
-targets=(fuzz_map_loader fuzz_pcd_reader fuzz_scan_insertion)
+  -DNDTOM_FUZZ=ON -DNDTOM_BUILD_TESTS=OFF -DNDTOM_BUILD_APPS=OFF -DNDTOM_WITH_MRPT=ON >/dev/null
+targets=(fuzz_map_loader fuzz_pcd_reader fuzz_scan_insertion fuzz_mrpt_deserialization)
 cmake --build build-fuzz -j2 --target "${targets[@]}"
 rm -rf build-fuzz/artifacts && mkdir -p build-fuzz/artifacts
+# As scripts/sanitize.sh: alignment reports are recoverable (for MRPT's headers) but halt.
+supp=$PWD/tests/sanitizers
+export LSAN_OPTIONS=suppressions=$supp/lsan.supp:print_suppressions=0
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$supp/ubsan.supp
 status=0
 for t in "${targets[@]}"; do
   work=build-fuzz/corpus/$t
