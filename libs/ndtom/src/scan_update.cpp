@@ -36,7 +36,8 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
   origin_ = origin;
   report_ = InsertionReport{};
   report_.points_in = points.size();
-  s_.counts_used = 0;
+  if (s_.counts.empty()) s_.counts.resize(1);  // counts[0] is the union even without tracing
+  s_.counts_used = 1;
 
   // Nothing below touches the map until applyToMap(), which cannot fail half-way.
   try {
@@ -239,7 +240,7 @@ void ScanUpdater::traceFreeRays() {
 // map's blocks for them, room in the statistics pool and in the threads' lists.
 void ScanUpdater::allocateForApply() {
   auto& grid = map_.grid_;
-  const size_t tables = std::max<size_t>(s_.counts_used, 1);
+  const size_t tables = s_.counts_used;
   ScanCounts& merged = s_.counts[0];
   s_.created_blocks.clear();
   try {
@@ -297,8 +298,7 @@ void ScanUpdater::allocateForApply() {
 // threads, each block owned by one; the shared statistics pool is only read and updated in
 // place, and slots are freed and taken once the threads are done.
 void ScanUpdater::applyToMap() {
-  if (s_.counts.empty()) s_.counts.resize(1);
-  const size_t tables = std::max<size_t>(s_.counts_used, 1);
+  const size_t tables = s_.counts_used;
   // A cell with hits in this scan takes the hit update only (Eq. 12, N_p > 0).
   runParallel(tables, [&](size_t t) {
     for (const EndGroup& g : s_.groups)
@@ -341,7 +341,7 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
   const double lo = map_.options().occupancy.logodds_min;
   const double hi = map_.options().occupancy.logodds_max;
   const double miss = map_.options().occupancy.missLogOdds();
-  const size_t others = std::max<size_t>(s_.counts_used, 1) - 1;
+  const size_t others = s_.counts_used - 1;
   const auto& pool = map_.stats_.items;
   ScanCounts& merged = s_.counts[0];
   for (size_t b = begin; b < end; ++b) {

@@ -12,8 +12,8 @@ namespace ndtom {
 /// Where a used point's ray ends (a hit, or the max-range end of a truncated ray), keyed by
 /// its cell so that sorting groups the ends of each cell together.
 struct RayEnd {
-  uint64_t key;    ///< dense cell index within the scan's bounding box, times 2, plus `hit`
-  uint32_t point;  ///< index into ScanUpdater::ends_
+  uint64_t key;    ///< block-major dense index of its cell in the ends' box, times 2, plus `hit`
+  uint32_t point;  ///< index of the input point (into ScanScratch::ends)
 };
 
 /// Rays that end in one cell: the unit of Eq. 12's N_p and of the per-hit-cell ray mode.
@@ -22,8 +22,8 @@ struct EndGroup {
   uint32_t begin;  ///< its rays are ray_ends[begin, begin + count), ends in sorted_ends
   uint32_t count;
   bool hit;
-  Eigen::Vector3d mean;      ///< of the ray ends, relative to the cell centre (see below)
-  Eigen::Vector3d mean_end;  ///< the same in the world frame: per-hit-cell mode's ray end
+  Eigen::Vector3d mean;      ///< of the ray ends, relative to the cell centre (per-hit-cell mode)
+  Eigen::Vector3d mean_end;  ///< the same in the world frame: that mode's ray end
 };
 
 /// What classification made of one input point.
@@ -39,10 +39,9 @@ struct ScanScratch {
   std::vector<RayEnd> ray_ends, sort_buffer;
   std::vector<size_t> part_offsets;  ///< where each classification chunk's ends start in ray_ends
   std::vector<Eigen::Vector3d> sorted_ends;  ///< ends in ray_ends' order: groups read them in a row
-  std::vector<uint32_t> group_starts;
   std::vector<EndGroup> groups;
   std::vector<ScanCounts> counts;         ///< one per tracing thread; counts[0] also gets the union
-  size_t counts_used = 0;                 ///< tables filled by this scan's tracing
+  size_t counts_used = 1;                 ///< tables filled by this scan's tracing (>= 1)
   std::vector<CountBlock*> other_counts;  ///< [block * (counts_used-1) + t-1], or nullptr
   std::vector<NdtMap::Block*> map_blocks;  ///< the map's block of each counts[0] block
   std::vector<CellIndex> created_blocks;   ///< map blocks this scan created, for a rollback
