@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "ndtom/block_grid.h"
@@ -18,6 +19,9 @@ inline constexpr int kCountGroup = 8;
 
 struct CountBlock {
   std::array<uint32_t, kBlockCells> count;
+  CellIndex index;  ///< block coordinates, while the block is in use this scan
+  /// Face neighbours in use this scan, [2 * axis + (step > 0)]; null until first followed.
+  std::array<CountBlock*, 6> neighbour;
 
   void zero() { std::memset(count.data(), 0, sizeof(count)); }
 };
@@ -32,13 +36,13 @@ class ScanCounts {
   /// Counter of a cell, or nullptr if no ray crossed its block.
   uint32_t* find(const CellIndex& c) {
     const int64_t slot = findSlot(blockOf(c));
-    return slot < 0 ? nullptr : &blocks_[table_[size_t(slot)].block].count[offsetInBlock(c)];
+    return slot < 0 ? nullptr : &blocks_[table_[size_t(slot)].block]->count[offsetInBlock(c)];
   }
 
   /// Counters of a block, or nullptr if no ray crossed it.
   CountBlock* findBlock(const CellIndex& block) {
     const int64_t slot = findSlot(block);
-    return slot < 0 ? nullptr : &blocks_[table_[size_t(slot)].block];
+    return slot < 0 ? nullptr : blocks_[table_[size_t(slot)].block].get();
   }
 
   /// Position of a block in blockIndex() order, or -1 if no ray crossed it.
@@ -49,7 +53,19 @@ class ScanCounts {
 
   size_t numBlocks() const { return used_.size(); }
   const CellIndex& blockIndex(size_t i) const { return used_[i]; }
-  CountBlock& block(size_t i) { return blocks_[i]; }
+  CountBlock& block(size_t i) { return *blocks_[i]; }
+
+  /// The block across face `face` (see CountBlock::neighbour) of `from`, a block of this table.
+  CountBlock& neighbour(CountBlock& from, int face) {
+    CountBlock*& link = from.neighbour[size_t(face)];
+    if (!link) {
+      CellIndex b = from.index;
+      b[face / 2] += face % 2 ? 1 : -1;
+      link = &blockFor(b);
+      link->neighbour[size_t(face ^ 1)] = &from;
+    }
+    return *link;
+  }
 
   /// Forgets all blocks; their memory is kept for the next scan. Callers zero the blocks
   /// they read (while they are in cache) with zeroBlock(), or clear() does it.
@@ -57,7 +73,7 @@ class ScanCounts {
     for (size_t i = 0; i < used_.size(); ++i) zeroBlock(i);
     reset();
   }
-  void zeroBlock(size_t i) { blocks_[i].zero(); }
+  void zeroBlock(size_t i) { blocks_[i]->zero(); }
   /// After every block was zeroed by zeroBlock().
   void reset() {
     // Erasing entry by entry would break linear-probe chains; the table is small (16 bytes
@@ -78,20 +94,23 @@ class ScanCounts {
     for (;; slot = (slot + 1) & mask_) {
       Entry& e = table_[slot];
       if (e.block == kEmpty) break;
-      if (e.key == b) return blocks_[e.block];
+      if (e.key == b) return *blocks_[e.block];
     }
     // New block this scan: reuse zeroed memory from earlier scans when there is some.
     const uint32_t index = uint32_t(used_.size());
     if (index == blocks_.size()) {
-      blocks_.emplace_back();
-      blocks_.back().zero();
+      blocks_.push_back(std::make_unique<CountBlock>());
+      blocks_.back()->zero();
     }
     used_.push_back(b);
     table_[slot] = {b, index};
     if (2 * used_.size() > table_.size()) {  // keep the load factor under 1/2
       rehash(table_.size() * 2);
     }
-    return blocks_[index];
+    CountBlock& block = *blocks_[index];
+    block.index = b;
+    block.neighbour.fill(nullptr);
+    return block;
   }
 
   int64_t findSlot(const CellIndex& b) const {
@@ -114,13 +133,16 @@ class ScanCounts {
 
   std::vector<Entry> table_;
   size_t mask_ = 0;
-  std::vector<CountBlock> blocks_;  ///< blocks_[i] belongs to used_[i]; the rest are spare
+  /// blocks_[i] belongs to used_[i]; the rest are spare. Owned one by one, so that walkers'
+  /// pointers and neighbour links survive the table growing.
+  std::vector<std::unique_ptr<CountBlock>> blocks_;
   std::vector<CellIndex> used_;
 };
 
 /// The ray walker of the free-space pass (see walkRay): adds `weight` to every cell visited.
-/// It follows the walk incrementally, block and in-block coordinates, so a visit is an
-/// increment and a block is looked up only when the ray leaves it.
+/// It follows the walk incrementally as a block and an offset in it, so a visit is an
+/// increment and leaving a block follows a neighbour link. The state is a few scalars and no
+/// member's address leaves the walker, so the compiler can keep it in registers.
 class CountingWalker {
  public:
   explicit CountingWalker(ScanCounts& counts) : counts_(&counts) {}
@@ -129,43 +151,46 @@ class CountingWalker {
 
   void start(const CellIndex& c) {
     const CellIndex b = blockOf(c);
-    if (!block_counts_ || b != block_) {  // rays share their origin's block
-      block_ = b;
-      block_counts_ = &counts_->blockAt(b);
-    }
-    constexpr int32_t mask = kBlockEdge - 1;
-    local_[0] = c.x & mask;
-    local_[1] = c.y & mask;
-    local_[2] = c.z & mask;
+    if (!block_ || b != block_->index) block_ = lookUp(counts_, b.x, b.y, b.z);
     offset_ = offsetInBlock(c);
   }
 
   template <int Axis>
   void move(int32_t step) {
-    constexpr int kShift = Axis * kBlockLog2;  // x fastest, as offsetInBlock
-    local_[Axis] += step;
-    if (uint32_t(local_[Axis]) < uint32_t(kBlockEdge)) {
-      offset_ += step * (1 << kShift);
+    constexpr int32_t kMask = (kBlockEdge - 1) << (Axis * kBlockLog2);  // x fastest
+    const int32_t moved = offset_ + step * (1 << (Axis * kBlockLog2));
+    if (((moved ^ offset_) & ~kMask) == 0) {  // the carry or borrow stayed in this axis
+      offset_ = moved;
       return;
     }
     // Left the block: wrap to the other side of the next one.
-    local_[Axis] &= kBlockEdge - 1;
-    offset_ = (local_[2] << (2 * kBlockLog2)) | (local_[1] << kBlockLog2) | local_[0];
-    block_[Axis] += step;
-    block_counts_ = &counts_->blockAt(block_);
+    offset_ = (offset_ & ~kMask) | (moved & kMask);
+    block_ = follow(counts_, block_, 2 * Axis + (step > 0));
   }
 
   bool visit() {
-    block_counts_->count[offset_] += weight_;
+    block_->count[size_t(offset_)] += weight_;
     ++visits_;
     return true;
   }
 
  private:
+  // Out of line and by value: a reference to a member would pin the walker in memory.
+  [[gnu::noinline]] static CountBlock* lookUp(ScanCounts* counts, int32_t x, int32_t y,
+                                              int32_t z) {
+    return &counts->blockAt(CellIndex{x, y, z});
+  }
+  static CountBlock* follow(ScanCounts* counts, CountBlock* from, int face) {
+    CountBlock* next = from->neighbour[size_t(face)];
+    return next ? next : linkNeighbour(counts, from, face);
+  }
+  [[gnu::noinline]] static CountBlock* linkNeighbour(ScanCounts* counts, CountBlock* from,
+                                                     int face) {
+    return &counts->neighbour(*from, face);
+  }
+
   ScanCounts* counts_;
-  CountBlock* block_counts_ = nullptr;
-  CellIndex block_;
-  int32_t local_[3] = {0, 0, 0};
+  CountBlock* block_ = nullptr;
   int32_t offset_ = 0;  ///< of the current cell in its block
   uint32_t weight_ = 1;
   size_t visits_ = 0;
