@@ -96,15 +96,34 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
   };
   const size_t threads = threadsFor(n, kMinPointsPerThread);
   std::vector<Part> parts(threads);
+  const GridGeometry& geometry = map_.geometry();
+  const double inv_resolution = geometry.invResolution();
+  const double min_range = options_.min_range, max_range = options_.max_range;
+  const double far_limit = kMaxRayCells * geometry.resolution();
   runParallel(threads, [&](size_t t) {
     Part& part = parts[t];
     const auto [begin, end] = partRange(n, threads, t);
+    size_t hits = 0;
     for (size_t i = begin; i < end; ++i) {
-      s_.kinds[i] = classifyPoint(points[i], s_.ends[i], part.report);
-      if (s_.kinds[i] == PointKind::kRejected) continue;
-      s_.end_cells[i] = map_.geometry().cellOf(s_.ends[i]);
+      const Eigen::Vector3d& p = points[i];
+      const Eigen::Vector3d scaled = p * inv_resolution;
+      const double range = (p - origin_).norm();
+      // Most points are plain hits: one test of all of classifyPoint's conditions, in
+      // registers (|scaled| < limit is false for NaN and inf too).
+      if (scaled.cwiseAbs().maxCoeff() < double(kMaxCellIndex - 1) && range > 0.0 &&
+          range >= min_range && range <= max_range && range <= far_limit) {
+        ++hits;
+        s_.kinds[i] = PointKind::kHit;
+        s_.ends[i] = p;
+        s_.end_cells[i] = GridGeometry::floorCell(scaled);
+      } else {
+        s_.kinds[i] = classifyPoint(p, s_.ends[i], part.report);
+        if (s_.kinds[i] == PointKind::kRejected) continue;
+        s_.end_cells[i] = geometry.cellOf(s_.ends[i]);
+      }
       widen(part.lo, part.hi, s_.end_cells[i]);
     }
+    part.report.hits += hits;
   });
   ends_lo_ = parts[0].lo;
   ends_hi_ = parts[0].hi;
@@ -154,7 +173,11 @@ void ScanUpdater::groupEndsByCell() {
   const size_t gather_threads = threadsFor(used, kMinPointsPerThread);
   runParallel(gather_threads, [&](size_t t) {
     const auto [begin, end] = partRange(used, gather_threads, t);
-    for (size_t i = begin; i < end; ++i) s_.sorted_ends[i] = s_.ends[s_.ray_ends[i].point];
+    constexpr size_t kAhead = 16;  // the loads are random: start them early
+    for (size_t i = begin; i < end; ++i) {
+      if (i + kAhead < end) __builtin_prefetch(&s_.ends[s_.ray_ends[i + kAhead].point]);
+      s_.sorted_ends[i] = s_.ends[s_.ray_ends[i].point];
+    }
   });
 
   for (size_t i = 0; i < used; ++i) {
@@ -163,7 +186,8 @@ void ScanUpdater::groupEndsByCell() {
       continue;
     }
     const bool hit = (s_.ray_ends[i].key & 1) != 0;
-    s_.groups.push_back({s_.end_cells[s_.ray_ends[i].point], uint32_t(i), 1, hit,
+    // The cell again from the sorted end (read in a row), not end_cells (a random access).
+    s_.groups.push_back({map_.geometry().cellOf(s_.sorted_ends[i]), uint32_t(i), 1, hit,
                          Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
     report_.cells_hit += hit;
   }
@@ -197,10 +221,15 @@ CellStats ScanUpdater::groupStats(const EndGroup& g) const {
     for (uint32_t i = g.begin; i < end; ++i) stats.mean += s_.sorted_ends[i] - centre;
     stats.mean /= double(g.count);
   }
+  // Upper triangle in scalars: Eigen's d·dᵀ here goes through the stack and stalls on store
+  // forwarding. Same sums in the same order, so the same bits.
+  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
   for (uint32_t i = g.begin; i < end; ++i) {
     const Eigen::Vector3d d = s_.sorted_ends[i] - centre - stats.mean;
-    stats.scatter += d * d.transpose();
+    xx += d.x() * d.x(), xy += d.x() * d.y(), xz += d.x() * d.z();
+    yy += d.y() * d.y(), yz += d.y() * d.z(), zz += d.z() * d.z();
   }
+  stats.scatter << xx, xy, xz, xy, yy, yz, xz, yz, zz;
   return stats;
 }
 

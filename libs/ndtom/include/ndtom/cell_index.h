@@ -62,9 +62,11 @@ class GridGeometry {
   }
 
   /// Only valid for points with inRange(p).
-  CellIndex cellOf(const Eigen::Vector3d& p) const {
-    return {floorToInt(p.x() * inv_resolution_), floorToInt(p.y() * inv_resolution_),
-            floorToInt(p.z() * inv_resolution_)};
+  CellIndex cellOf(const Eigen::Vector3d& p) const { return floorCell(p * inv_resolution_); }
+
+  /// The cell of a point already divided by the resolution (|coordinates| < kMaxCellIndex).
+  static CellIndex floorCell(const Eigen::Vector3d& scaled) {
+    return {floorToInt(scaled.x()), floorToInt(scaled.y()), floorToInt(scaled.z())};
   }
 
   double cellMin(int32_t i) const { return double(i) * resolution_; }
