@@ -104,10 +104,12 @@ template <class Walker>
     t_next[a] =
         delta != 0 ? crossingTime(geometry.cellMin(cell[a] + up[a]), from[a], inv[a]) : kNever;
   }
-  int32_t x = cell[0], y = cell[1], z = cell[2];
+  // Index of the next boundary on each axis, kept as a double: integers are exact there, and
+  // the crossing time needs it as a double anyway (one conversion less per step).
+  double bx = cell[0] + up[0], by = cell[1] + up[1], bz = cell[2] + up[2];
   double tx = t_next[0], ty = t_next[1], tz = t_next[2];
   const int32_t sx = step[0], sy = step[1], sz = step[2];
-  const int32_t ux = up[0], uy = up[1], uz = up[2];
+  const double dx = sx, dy = sy, dz = sz;
   const double ix = inv[0], iy = inv[1], iz = inv[2];
   const double fx = from[0], fy = from[1], fz = from[2];
   const int32_t lx = last.x, ly = last.y, lz = last.z;
@@ -116,8 +118,8 @@ template <class Walker>
   // Each step moves one axis one cell towards `last`, so the walk ends after exactly this
   // many steps; counting them is cheaper than comparing the cell with `last` every time.
   auto stepsLeft = [&] {
-    return int64_t(std::abs(int64_t(lx) - x)) + std::abs(int64_t(ly) - y) +
-           std::abs(int64_t(lz) - z);
+    return int64_t(std::abs(int64_t(lx) - cell[0])) + std::abs(int64_t(ly) - cell[1]) +
+           std::abs(int64_t(lz) - cell[2]);
   };
   int64_t remaining = stepsLeft();
 
@@ -127,23 +129,23 @@ template <class Walker>
     // guards against rounding taking the walk past the end of the segment.
     if (tx < ty && tx < tz) {
       if (!(tx <= 1.0)) return;
-      x += sx;
+      bx += dx;
       walker.template move<0>(sx);
-      tx = crossingTime(double(x + ux) * r, fx, ix);
+      tx = crossingTime(bx * r, fx, ix);
     } else if (ty < tx && ty < tz) {
       if (!(ty <= 1.0)) return;
-      y += sy;
+      by += dy;
       walker.template move<1>(sy);
-      ty = crossingTime(double(y + uy) * r, fy, iy);
+      ty = crossingTime(by * r, fy, iy);
     } else if (tz < tx && tz < ty) {
       if (!(tz <= 1.0)) return;
-      z += sz;
+      bz += dz;
       walker.template move<2>(sz);
-      tz = crossingTime(double(z + uz) * r, fz, iz);
+      tz = crossingTime(bz * r, fz, iz);
     } else {  // through an edge or a corner: up-steps first, then the down-steps
       const double t = std::min(tx, std::min(ty, tz));
       if (!(t <= 1.0)) return;
-      cell[0] = x, cell[1] = y, cell[2] = z;
+      cell[0] = int32_t(bx) - up[0], cell[1] = int32_t(by) - up[1], cell[2] = int32_t(bz) - up[2];
       t_next[0] = tx, t_next[1] = ty, t_next[2] = tz;
       bool crossing[3], moved_up = false, down_pending = false;
       for (int a = 0; a < 3; ++a) {
@@ -168,7 +170,7 @@ template <class Walker>
         detail::moveRuntimeAxis(walker, a, -1);
         t_next[a] = crossingTime(geometry.cellMin(cell[a]), from[a], inv[a]);
       }
-      x = cell[0], y = cell[1], z = cell[2];
+      bx = cell[0] + up[0], by = cell[1] + up[1], bz = cell[2] + up[2];
       tx = t_next[0], ty = t_next[1], tz = t_next[2];
       remaining = stepsLeft() + 1;  // the decrement below applies to the single steps only
     }
