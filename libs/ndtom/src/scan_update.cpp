@@ -169,45 +169,58 @@ void ScanUpdater::groupEndsByCell() {
   int key_bits = 1;
   while (key_bits < 64 && (uint64_t(1) << key_bits) < 2 * kBlockCells * nx * ny * nz) ++key_bits;
   radixSortByKey(s_.ray_ends, s_.sort_buffer, key_bits);
-  // One gather with independent loads, instead of a dependent walk per group later.
+  // Groups are runs of equal keys. Threads split the sorted ends at run boundaries; each
+  // gathers its ends (independent loads, instead of a dependent walk per group later) and
+  // counts its runs, then fills its part of the group list.
   s_.sorted_ends.resize(used);
-  const size_t gather_threads = threadsFor(used, kMinPointsPerThread);
-  runParallel(gather_threads, [&](size_t t) {
-    const auto [begin, end] = partRange(used, gather_threads, t);
+  const size_t threads = threadsFor(used, kMinPointsPerThread);
+  std::vector<size_t> starts(threads + 1, used), runs(threads + 1, 0);
+  starts[0] = 0;
+  for (size_t t = 1; t < threads; ++t) {
+    size_t start = std::max(partRange(used, threads, t).first, starts[t - 1]);
+    while (start > 0 && start < used && s_.ray_ends[start].key == s_.ray_ends[start - 1].key)
+      ++start;
+    starts[t] = start;
+  }
+  runParallel(threads, [&](size_t t) {
     constexpr size_t kAhead = 16;  // the loads are random: start them early
+    const size_t begin = starts[t], end = starts[t + 1];
     for (size_t i = begin; i < end; ++i) {
       if (i + kAhead < end) __builtin_prefetch(&s_.ends[s_.ray_ends[i + kAhead].point]);
       s_.sorted_ends[i] = s_.ends[s_.ray_ends[i].point];
     }
+    size_t count = 0;
+    for (size_t i = begin; i < end; ++i)
+      count += i == begin || s_.ray_ends[i].key != s_.ray_ends[i - 1].key;
+    runs[t + 1] = count;
   });
-
-  for (size_t i = 0; i < used; ++i) {
-    if (i > 0 && s_.ray_ends[i].key == s_.ray_ends[i - 1].key) {
-      ++s_.groups.back().count;
-      continue;
-    }
-    const bool hit = (s_.ray_ends[i].key & 1) != 0;
-    // The cell again from the sorted end (read in a row), not end_cells (a random access).
-    s_.groups.push_back({map_.geometry().cellOf(s_.sorted_ends[i]), uint32_t(i), 1, hit,
-                         Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
-    report_.cells_hit += hit;
-  }
+  for (size_t t = 0; t < threads; ++t) runs[t + 1] += runs[t];
+  s_.groups.resize(runs[threads]);
   group_means_ready_ = options_.ray_mode == RayMode::PerHitCell && map_.options().occupancy.enabled;
-  if (!group_means_ready_) return;
-
-  // One ray per group, to the mean of its ends.
-  const size_t threads = threadsFor(s_.groups.size(), kMinGroupsPerThread);
+  std::vector<size_t> hits(threads, 0);
   runParallel(threads, [&](size_t t) {
-    const auto [first, last] = partRange(s_.groups.size(), threads, t);
-    for (size_t group = first; group < last; ++group) {
+    const GridGeometry& geometry = map_.geometry();
+    size_t group = runs[t];
+    for (size_t i = starts[t]; i < starts[t + 1]; ++group) {
       EndGroup& g = s_.groups[group];
-      const Eigen::Vector3d centre = map_.geometry().cellCenter(g.cell);
-      g.mean = Eigen::Vector3d::Zero();
-      for (uint32_t i = g.begin; i < g.begin + g.count; ++i) g.mean += s_.sorted_ends[i] - centre;
+      const uint64_t key = s_.ray_ends[i].key;
+      g.begin = uint32_t(i);
+      while (i < starts[t + 1] && s_.ray_ends[i].key == key) ++i;
+      g.count = uint32_t(i - g.begin);
+      g.hit = (key & 1) != 0;
+      hits[t] += g.hit;
+      // The cell again from the sorted end (read in a row), not end_cells (a random access).
+      g.cell = geometry.cellOf(s_.sorted_ends[g.begin]);
+      g.mean = g.mean_end = Eigen::Vector3d::Zero();
+      if (!group_means_ready_) continue;
+      // One ray per group, to the mean of its ends.
+      const Eigen::Vector3d centre = geometry.cellCenter(g.cell);
+      for (uint32_t k = g.begin; k < g.begin + g.count; ++k) g.mean += s_.sorted_ends[k] - centre;
       g.mean /= double(g.count);
       g.mean_end = centre + g.mean;
     }
   });
+  for (size_t n : hits) report_.cells_hit += n;
 }
 
 // Two-pass statistics (Eq. 1) of a group's points, relative to its cell's centre.
