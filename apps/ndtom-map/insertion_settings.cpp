@@ -74,6 +74,10 @@ const std::vector<KeySpec>& keySpecs() {
       {{"min_eigen_ratio", "covariance eigenvalue floor / largest (0.01)"},
        real(&O::min_eigen_ratio)},
       {{"min_eigen_abs", "covariance eigenvalue floor [m^2] (1e-6)"}, real(&O::min_eigen_abs)},
+      {{"threads", "threads tracing free rays; same map, faster (1)"},
+       [](O& o, const std::string& option, const std::string& text) {
+         o.threads = int32_t(parseInteger(option, text, 1, 256));
+       }},
   };
   return specs;
 }

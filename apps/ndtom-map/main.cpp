@@ -48,7 +48,7 @@ RunSummary summarize(const MapperOptions& o, const SourceSettings& settings,
   summary.input = o.input;
   summary.format = inputFormatName(settings.format);
   summary.map_options = map.ndtMap().options();
-  summary.threads = o.threads;
+  summary.threads = map.insertionOptions.threads;
   summary.mapping = &mapping;
   summary.coarse = coarse;
   summary.peak_rss = ndtom::apps::peakRssBytes();
@@ -69,7 +69,7 @@ int run(const MapperOptions& o) {
   // Insert the scans.
   ndtom::apps::Progress progress(!o.quiet);
   MappingResult mapping = buildMap(std::move(source), settings,
-                                   {insertion.toMapOptions(), o.threads, o.passes}, progress);
+                                   {insertion.toMapOptions(), insertion.threads, o.passes}, progress);
   requireSomePoints(mapping, o.input);
   const size_t peak_rss_after_mapping = ndtom::apps::peakRssBytes();
 

@@ -66,9 +66,6 @@ const std::map<std::string, OptionSpec>& optionTable() {
       {"--coarse",
        {true,
         [](O& o, const std::string& v) { o.coarse = int(parseInteger("--coarse", v, 2, 64)); }}},
-      {"--threads",
-       {true,
-        [](O& o, const std::string& v) { o.threads = int(parseInteger("--threads", v, 1, 256)); }}},
       {"--passes",
        {true,
         [](O& o, const std::string& v) { o.passes = int(parseInteger("--passes", v, 1, 1000)); }}},
@@ -178,7 +175,6 @@ std::string helpText() {
       << "\n";
   }
   s << "  --coarse K                also write a map K times coarser (exact merge of cells)\n"
-       "  --threads N               threads tracing free rays; same map, faster (1)\n"
        "  --passes N                replay the input N times, cells and memory after each (1)\n"
        "\n"
        "Output:\n"

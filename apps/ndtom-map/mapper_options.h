@@ -25,7 +25,6 @@ struct MapperOptions {
 
   InsertionSettings insertion;  ///< --config, --section and the .ini keys as options
   int coarse = 0;               ///< also write a map this many times coarser; 0 = none
-  int threads = 1;              ///< threads tracing free rays (Default: 1)
   int passes = 1;               ///< times the input is replayed into the map (Default: 1)
 
   bool pictures = true;

@@ -3,6 +3,8 @@
 // that each seed stays a few KB), and damaged variants of one of them. Not part of the
 // normal build: cmake --build <dir> --target make_mrpt_seeds && <dir>/tests/fuzz/make_mrpt_seeds
 // tests/data/balm-realworld tests/fuzz/corpus/fuzz_mrpt_deserialization
+// The corpus's v0_* seeds were written by an earlier version (insertion options without
+// threads); this program does not rewrite them.
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -75,10 +77,12 @@ int main(int argc, char** argv) {
   const std::vector<uint8_t> good = serialize(occupancy);
   write(out + "lidar_occupancy", good);
 
-  // Recursive NDT (no rays), other ray mode, non-default likelihood and render options.
+  // Recursive NDT (no rays), other ray mode and threads, non-default likelihood and render
+  // options.
   CNDTOccupancyMap recursive(1.5);
   recursive.insertionOptions.occupancy_enabled = false;
   recursive.insertionOptions.ray_mode = ndtom::RayMode::PerHitCell;
+  recursive.insertionOptions.threads = 2;
   recursive.likelihoodOptions.search_neighbours = false;
   recursive.likelihoodOptions.decimation = 3;
   recursive.renderOptions.show_free_cells = true;
@@ -117,5 +121,8 @@ int main(int argc, char** argv) {
   damaged = good;
   damaged[options_at + 1 + 8 + 1 + 7] ^= 0x7f;  // p_hit's sign and exponent: 0.6 -> ~4e4
   write(out + "damaged_p_hit", damaged);
+  damaged = good;
+  std::memset(damaged.data() + options_at + 86, 0, 4);  // threads, the last field: 1 -> 0
+  write(out + "damaged_threads", damaged);
   return 0;
 }

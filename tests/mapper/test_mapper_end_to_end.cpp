@@ -166,6 +166,7 @@ TEST(MapperEndToEnd, ThreadsPassesAndCoarseMap) {
   EXPECT_FALSE(fs::exists(dir / "lidar.top.png"));
 
   const std::string summary = readText(dir / "lidar.summary.json");
+  EXPECT_EQ(jsonNumber(summary, "threads"), 2);
   EXPECT_EQ(jsonNumber(summary, "pass", "passes"), 1);
   EXPECT_EQ(jsonNumber(summary, "cells_drift_percent"), 0);  // same scans, same cells
   EXPECT_LT(jsonNumber(summary, "map_bytes_drift_percent"), 1.0);

@@ -53,6 +53,7 @@ TEST(InsertionSettings, FileThenCommandLine) {
   in_file.ray_mode = ndtom::RayMode::PerHitCell;
   in_file.decimation = 3;
   in_file.occupancy_enabled = false;
+  in_file.threads = 3;
   mrpt::config::CConfigFileMemory memory;
   in_file.saveToConfigFile(memory, "Mine");
   std::ofstream(dir / "map.ini") << memory.getContent();
@@ -62,8 +63,10 @@ TEST(InsertionSettings, FileThenCommandLine) {
   settings.section = "Mine";
   EXPECT_TRUE(resolveInsertionOptions(settings) == in_file);
 
-  settings.overrides = {{"p_hit", "0.65"}, {"max_range", "inf"}, {"ray_mode", "PerPoint"}};
+  settings.overrides = {
+      {"p_hit", "0.65"}, {"max_range", "inf"}, {"ray_mode", "PerPoint"}, {"threads", "2"}};
   InsertionOptions expected = in_file;
+  expected.threads = 2;
   expected.p_hit = 0.65;
   expected.max_range = std::numeric_limits<double>::infinity();
   expected.ray_mode = ndtom::RayMode::PerPoint;

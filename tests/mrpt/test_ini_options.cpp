@@ -38,6 +38,7 @@ decimation          = 3
 decimation_3d_range = 4
 min_eigen_ratio     = 0.02
 min_eigen_abs       = 1e-05
+threads             = 2
 
 [MetricMap_ndtOccupancyMap_00_likelihoodOpts]
 decimation          = 7
@@ -95,6 +96,7 @@ TEST(IniOptions, ShortNameCreatesTheMapWithTheTextsOptions) {
   EXPECT_EQ(in.decimation_3d_range, 4u);
   EXPECT_EQ(in.min_eigen_ratio, 0.02);
   EXPECT_EQ(in.min_eigen_abs, 1e-5);
+  EXPECT_EQ(in.threads, 2);
 
   const auto& lk = map->likelihoodOptions;
   EXPECT_EQ(lk.decimation, 7u);
@@ -110,6 +112,7 @@ TEST(IniOptions, ShortNameCreatesTheMapWithTheTextsOptions) {
   EXPECT_EQ(map->ndtMap().options().resolution, 0.35);
   EXPECT_FALSE(map->ndtMap().options().occupancy.enabled);
   EXPECT_EQ(map->ndtMap().options().insertion.ray_mode, ndtom::RayMode::PerHitCell);
+  EXPECT_EQ(map->ndtMap().options().insertion.threads, 2);
 }
 
 TEST(IniOptions, DefaultsWhenSectionsAreMissing) {
@@ -145,6 +148,7 @@ TEST(IniOptions, SaveLoadRoundTripIsExact) {
   lik.loadFromConfigFile(text, "lik");
   EXPECT_TRUE(ins == map->insertionOptions) << saved.getContent();
   EXPECT_TRUE(lik == map->likelihoodOptions) << saved.getContent();
+  EXPECT_EQ(ins.threads, 2) << saved.getContent();
 
   // Defaults too, including max_range = inf.
   mrpt::config::CConfigFileMemory defaults;
@@ -159,12 +163,13 @@ TEST(IniOptions, DumpListsEveryOptionWithAComment) {
   CNDTOccupancyMap::TLikelihoodOptions().dumpToTextStream(lik);
   for (const char* key : {"resolution", "occupancy_enabled", "p_hit", "p_miss", "logodds_min",
                           "logodds_max", "min_range", "max_range", "ray_mode", "decimation",
-                          "decimation_3d_range", "min_eigen_ratio", "min_eigen_abs"})
+                          "decimation_3d_range", "min_eigen_ratio", "min_eigen_abs", "threads"})
     EXPECT_NE(ins.str().find(key), std::string::npos) << key;
   for (const char* key : {"decimation", "outlier_likelihood", "search_neighbours", "scale"})
     EXPECT_NE(lik.str().find(key), std::string::npos) << key;
   EXPECT_NE(ins.str().find("PerPoint"), std::string::npos) << "enum written by name";
   EXPECT_NE(ins.str().find("// Cell edge [m]"), std::string::npos) << ins.str();
+  EXPECT_NE(ins.str().find("// Threads inserting a scan"), std::string::npos) << ins.str();
 }
 
 TEST(IniOptions, RayModeByNumberToo) {
@@ -207,6 +212,40 @@ TEST(IniOptions, BadValuesFailAtLoadNamingTheOption) {
     multiMapFrom("[M]\nndtOccupancyMap_count=1\n[M_ndtOccupancyMap_00_insertOpts]\np_hit=2\n", "M");
   });
   EXPECT_NE(msg.find("M_ndtOccupancyMap_00_insertOpts"), std::string::npos) << msg;
+}
+
+TEST(IniOptions, ThreadsMustBeAnIntegerInTheCoresRange) {
+  EXPECT_EQ(loadInsertion("").threads, 1);
+  EXPECT_EQ(loadInsertion("threads = 256").threads, 256);
+  // MRPT keeps "#" and ";" comments in the value (it strips only "//").
+  EXPECT_EQ(loadInsertion("threads = 4   # four").threads, 4);
+  EXPECT_EQ(loadInsertion("threads = 3 ; three").threads, 3);
+  // MRPT's read_int would take the last three as 2, 1 and 2.
+  for (const std::string value :
+       {"0", "-3", "257", "100000", "4294967298", "1e3", "2.5", "two", "2 threads"}) {
+    const std::string msg = errorOf([&] { loadInsertion("threads = " + value); });
+    EXPECT_NE(msg.find("[s] threads = " + value + ":"), std::string::npos) << value << " -> " << msg;
+  }
+  EXPECT_NE(errorOf([] { loadInsertion("threads = 0"); }).find("must be in [1, 256]"),
+            std::string::npos);
+  // Set in code, the value is checked at the next insertion, which then changes nothing.
+  CNDTOccupancyMap map(0.5);
+  map.insertionOptions.threads = 0;
+  const std::string msg = errorOf([&] { map.insertPoints({{2, 0, 0}}, {0, 0, 0}); });
+  EXPECT_NE(msg.find("threads = 0"), std::string::npos) << msg;
+  EXPECT_TRUE(map.isEmpty());
+}
+
+TEST(IniOptions, ThreadsChangeWithoutRebuildingTheMap) {
+  CNDTOccupancyMap map(0.5);
+  map.insertPoints({{2, 0, 0}, {2, 0.05, 0}, {2, 0.1, 0.05}}, {0, 0, 0});
+  const auto lookup = map.gaussianLookup();
+  map.insertionOptions.threads = 2;
+  map.insertPoints({}, {0, 0, 0});  // no points: only the options are applied
+  EXPECT_EQ(map.gaussianLookup(), lookup) << "the map was rebuilt";
+  map.insertionOptions.logodds_max = 3.0;  // a real change does rebuild it
+  map.insertPoints({}, {0, 0, 0});
+  EXPECT_NE(map.gaussianLookup(), lookup);
 }
 
 TEST(IniOptions, ResolutionIsFixedOnceTheMapHoldsData) {

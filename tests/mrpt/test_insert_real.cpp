@@ -2,16 +2,21 @@
 // frame, the VLP-16 scan and the Málaga 2D laser scans. The map must equal the core map
 // built from the same points extracted by MRPT's own code (unprojectInto,
 // generatePointCloud, CSimplePointsMap::loadFromRangeScan) and its sensor origin.
+// And the project's BALM lidar scans: the map does not depend on the insertion threads.
 #include <gtest/gtest.h>
+#include <mrpt/io/CMemoryStream.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/obs/CObservationVelodyneScan.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3DPDF.h>
+#include <mrpt/serialization/CArchive.h>
 
+#include "balm_scans.h"
 #include "map_compare.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 
@@ -48,6 +53,13 @@ Vector3d originOf(const CPose3D& robot, const mrpt::obs::CObservation& obs) {
 
 ndtom::MapOptions optionsOf(const CNDTOccupancyMap& map) {
   return map.insertionOptions.toMapOptions();
+}
+
+std::vector<uint8_t> archiveBytes(const CNDTOccupancyMap& map) {
+  mrpt::io::CMemoryStream buffer;
+  mrpt::serialization::archiveFrom(buffer) << map;
+  const auto* raw = static_cast<const uint8_t*>(buffer.getRawBufferData());
+  return {raw, raw + buffer.getTotalBytesCount()};
 }
 
 }  // namespace
@@ -149,4 +161,29 @@ TEST(InsertReal, WholeSimplemapThroughMrptsLoader) {
   for (const auto& [pose_pdf, frame] : simplemap)
     for (const auto& obs : *frame) by_hand.insertObservation(*obs, pose_pdf->getMeanVal());
   ndtom::testing::expectNearlySameMaps(via_loader.ndtMap(), by_hand.ndtMap(), 0.0);
+}
+
+TEST(InsertReal, TwoThreadsBuildTheSameMapAsOne) {
+  // Six BALM lidar scans as point clouds, 0.2 m cells, rays up to 30 m, in both ray modes.
+  const std::vector<CPose3D> poses = ndtom::testing::balmPoses();
+  ASSERT_GE(poses.size(), 6u);
+  std::vector<mrpt::obs::CObservationPointCloud> scans(6);
+  for (size_t i = 0; i < scans.size(); ++i) scans[i].pointcloud = ndtom::testing::balmScan(int(i));
+  for (const auto mode : {ndtom::RayMode::PerPoint, ndtom::RayMode::PerHitCell}) {
+    CNDTOccupancyMap one(0.2), two(0.2);
+    for (CNDTOccupancyMap* map : {&one, &two}) {
+      map->insertionOptions.max_range = 30.0;
+      map->insertionOptions.ray_mode = mode;
+    }
+    two.insertionOptions.threads = 2;
+    for (size_t i = 0; i < scans.size(); ++i) {
+      ASSERT_TRUE(one.insertObservation(scans[i], poses[i]));
+      ASSERT_TRUE(two.insertObservation(scans[i], poses[i]));
+    }
+    ASSERT_GT(one.ndtMap().numGaussians(), 5000u) << ndtom::toString(mode);
+    EXPECT_GT(one.ndtMap().numCells(), 5 * one.ndtMap().numGaussians()) << "free space traced";
+    // Every cell, bit for bit: the whole archive, once the option itself agrees.
+    two.insertionOptions.threads = 1;
+    EXPECT_TRUE(archiveBytes(one) == archiveBytes(two)) << ndtom::toString(mode);
+  }
 }

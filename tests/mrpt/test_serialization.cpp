@@ -1,11 +1,14 @@
 // Serialization and copies: a map written to an MRPT archive and read back, copied, or
 // carried inside a CMultiMetricMap (as rbpf-slam's particles are) is bit-for-bit the same.
+// Archives of earlier versions still load.
 #include <gtest/gtest.h>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
@@ -30,6 +33,7 @@ std::vector<Vector3d> randomScan(unsigned seed) {
 CNDTOccupancyMap::Ptr sampleMap() {
   auto map = CNDTOccupancyMap::Create(0.3);
   map->insertionOptions.p_hit = 0.65;
+  map->insertionOptions.threads = 3;
   map->likelihoodOptions.decimation = 3;
   map->renderOptions.subdivisions = 2;
   map->genericMapParams.enableSaveAs3DObject = false;
@@ -74,6 +78,7 @@ TEST(Serialization, ArchiveRoundTripIsExact) {
   const auto copy = roundTrip(*map);
   ASSERT_TRUE(copy);
   expectSameMaps(*map, *copy);
+  EXPECT_EQ(copy->insertionOptions.threads, 3);
   // And it still works: same likelihood-relevant content, can take more data.
   copy->insertPoints(randomScan(9), Vector3d::Zero());
   EXPECT_GT(copy->ndtMap().numCells(), 0u);
@@ -238,6 +243,12 @@ TEST(Serialization, CorruptOptionsAreRejectedByName) {
   EXPECT_TRUE(contains(a.readWith(a.insertion + 10, 4e4), "p_hit"));
   EXPECT_TRUE(contains(a.readWith(a.insertion + 58, int32_t(5)), "insertionOptions.ray_mode = 5"));
   EXPECT_TRUE(contains(a.readWith(a.insertion + 62, uint32_t(0)), "decimation"));
+  EXPECT_TRUE(contains(a.readWith(a.insertion + 86, int32_t(0)), "insertionOptions: threads = 0"));
+  EXPECT_TRUE(
+      contains(a.readWith(a.insertion + 86, int32_t(-4)), "insertionOptions: threads = -4"));
+  EXPECT_TRUE(
+      contains(a.readWith(a.insertion + 86, int32_t(1000)), "insertionOptions: threads = 1000"));
+  EXPECT_TRUE(contains(a.readWith(a.insertion, uint8_t(2)), "unknown serialization version"));
   EXPECT_TRUE(contains(a.readWith(a.likelihood + 1, uint32_t(0)), "likelihoodOptions: decimation"));
   EXPECT_TRUE(contains(a.readWith(a.likelihood + 17, uint8_t(2)),
                        "likelihoodOptions.search_neighbours: stored bool is 2"));
@@ -296,4 +307,79 @@ TEST(Serialization, CoarsenedCopyIsTheCoresMultiResolutionMap) {
   // It is a working map: more data can go in at the coarse resolution.
   coarse->insertPoints(randomScan(21), Vector3d::Zero());
   EXPECT_THROW(map->getCoarsened(0), std::exception);
+}
+
+namespace {
+
+std::vector<uint8_t> fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Insertion options version 1 is version 0 with `threads` (int32) appended.
+constexpr size_t kThreadsInInsertionOptions = 86;
+
+}  // namespace
+
+TEST(Serialization, ArchiveOfThePreviousVersionLoadsWithOneThread) {
+  // Written by the plugin before `threads` existed (see tests/data/mrpt-archives/README.md).
+  const std::vector<uint8_t> old =
+      fileBytes(std::string(NDTOM_TEST_DATA_DIR) + "/mrpt-archives/insertion_options_v0.archive");
+  ASSERT_EQ(old.size(), 7045u);
+  // MRPT's header (0x80 | name length, the name), the map's version, then the options' version.
+  const std::string name = "mrpt_ndtom::CNDTOccupancyMap";
+  const size_t insertion = 1 + name.size() + 1;
+  ASSERT_EQ(old[insertion - 1], 0) << "map version";
+  ASSERT_EQ(old[insertion], 0) << "insertion options version";
+
+  CNDTOccupancyMap map(0.5);
+  map.insertionOptions.threads = 4;
+  ASSERT_EQ(readInto(map, old), "");
+  const auto& o = map.insertionOptions;
+  EXPECT_EQ(o.threads, 1);
+  EXPECT_EQ(o.resolution, 1.0);
+  EXPECT_TRUE(o.occupancy_enabled);
+  EXPECT_EQ(o.p_hit, 0.65);
+  EXPECT_EQ(o.p_miss, 0.45);
+  EXPECT_EQ(o.logodds_min, -2.5);
+  EXPECT_EQ(o.logodds_max, 3.0);
+  EXPECT_EQ(o.min_range, 0.6);
+  EXPECT_EQ(o.max_range, 8.0);
+  EXPECT_EQ(o.ray_mode, ndtom::RayMode::PerHitCell);
+  EXPECT_EQ(o.decimation, 2u);
+  EXPECT_EQ(o.decimation_3d_range, 3u);
+  EXPECT_EQ(o.min_eigen_ratio, 0.02);
+  EXPECT_EQ(o.min_eigen_abs, 2e-6);
+  EXPECT_EQ(map.likelihoodOptions.decimation, 4u);
+  EXPECT_EQ(map.likelihoodOptions.scale, 0.5);
+  EXPECT_TRUE(map.renderOptions.show_free_cells);
+  EXPECT_EQ(map.ndtMap().numCells(), 97u);
+  EXPECT_EQ(map.ndtMap().numGaussians(), 46u);
+  const std::vector<uint8_t> map_data = ndtom::encodeMap(map.ndtMap());
+  // The stored map as is, then MRPT's one-byte end flag.
+  EXPECT_EQ(offsetOf(old, map_data) + map_data.size() + 1, old.size());
+
+  // Written again it is version 1, and otherwise the same bytes.
+  std::vector<uint8_t> again = archiveBytes(map);
+  ASSERT_EQ(again.size(), old.size() + 4);
+  EXPECT_EQ(again[insertion], 1);
+  again[insertion] = 0;
+  again.erase(again.begin() + long(insertion + kThreadsInInsertionOptions),
+              again.begin() + long(insertion + kThreadsInInsertionOptions + 4));
+  EXPECT_TRUE(again == old);
+}
+
+TEST(Serialization, HandMadeVersion0ArchiveLoadsWithOneThread) {
+  // sampleMap() (threads = 3) in the version 0 layout: version byte 0, no threads field.
+  const Archive a;
+  ASSERT_EQ(a.bytes[a.insertion], 1);
+  std::vector<uint8_t> v0 = a.bytes;
+  v0[a.insertion] = 0;
+  v0.erase(v0.begin() + long(a.insertion + kThreadsInInsertionOptions),
+           v0.begin() + long(a.insertion + kThreadsInInsertionOptions + 4));
+  CNDTOccupancyMap map;
+  ASSERT_EQ(readInto(map, v0), "");
+  EXPECT_EQ(map.insertionOptions.threads, 1);
+  map.insertionOptions.threads = 3;
+  expectSameMaps(*a.map, map);
 }

@@ -55,6 +55,8 @@ struct RegisterClasses {
 namespace mrpt_ndtom {
 namespace {
 
+// Leaves out insertion.threads: it does not change the map, so a new count must not rebuild
+// it (insertPoints passes the count with each scan).
 bool sameOptions(const ndtom::MapOptions& a, const ndtom::MapOptions& b) {
   return a.resolution == b.resolution && a.occupancy.enabled == b.occupancy.enabled &&
          a.occupancy.p_hit == b.occupancy.p_hit && a.occupancy.p_miss == b.occupancy.p_miss &&
@@ -188,6 +190,7 @@ CNDTOccupancyMap::Ptr CNDTOccupancyMap::getCoarsened(int factor) const {
   coarse->setNdtMap(m_map.coarsened(factor));
   coarse->insertionOptions.decimation = insertionOptions.decimation;
   coarse->insertionOptions.decimation_3d_range = insertionOptions.decimation_3d_range;
+  coarse->insertionOptions.threads = insertionOptions.threads;
   return coarse;
 }
 
@@ -210,7 +213,8 @@ void CNDTOccupancyMap::internal_clear() {
 }
 
 // Version 0: insertion, likelihood and render options, genericMapParams, then the map in
-// the core's file format (versioned and checksummed on its own).
+// the core's file format (versioned and checksummed on its own). Each options block has its
+// own version byte: a new option bumps that (insertion options 1 added threads), not this.
 uint8_t CNDTOccupancyMap::serializeGetVersion() const {
   return 0;
 }

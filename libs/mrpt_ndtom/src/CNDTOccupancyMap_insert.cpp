@@ -6,9 +6,11 @@ namespace mrpt_ndtom {
 ndtom::InsertionReport CNDTOccupancyMap::insertPoints(
     const std::vector<Eigen::Vector3d>& points_world, const Eigen::Vector3d& sensor_origin) {
   applyInsertionOptions();
+  ndtom::InsertOptions insert = m_map.options().insertion;
+  insert.threads = insertionOptions.threads;  // validated by applyInsertionOptions
   ndtom::InsertionReport report;
   try {
-    report = m_map.insertScan(points_world, sensor_origin, m_map.options().insertion);
+    report = m_map.insertScan(points_world, sensor_origin, insert);
   } catch (const std::exception& e) {  // a bad origin; the map is left unchanged
     THROW_EXCEPTION(std::string("CNDTOccupancyMap: ") + e.what());
   }

@@ -3,7 +3,10 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <cctype>
+#include <climits>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include "archive_checks.h"
@@ -21,6 +24,21 @@ uint32_t readDecimation(const mrpt::config::CConfigFileBase& c, const std::strin
     THROW_EXCEPTION(
         mrpt::format("[%s] %s = %d: must be >= 1", section.c_str(), name.c_str(), value));
   return uint32_t(value);
+}
+
+// Read as text: read_int's atoi takes "4294967298" as 2 and "1e3" as 1. MRPT leaves "#" and
+// ";" comments in the value, so they may follow the number. The range is checked by the core.
+int readThreads(const mrpt::config::CConfigFileBase& c, const std::string& section, int current) {
+  const std::string text = c.read_string(section, "threads", std::to_string(current));
+  char* end = nullptr;
+  const long long value = std::strtoll(text.c_str(), &end, 10);
+  const char* rest = end;
+  while (std::isspace(static_cast<unsigned char>(*rest))) ++rest;
+  if (end == text.c_str() || (*rest != '\0' && *rest != '#' && *rest != ';') ||
+      value < INT_MIN || value > INT_MAX)  // strtoll saturates on overflow
+    THROW_EXCEPTION(mrpt::format("[%s] threads = %s: must be an integer in [1, 256]",
+                                 section.c_str(), text.c_str()));
+  return int(value);
 }
 
 // Runs a validation and rethrows its message prefixed with the .ini section.
@@ -62,6 +80,7 @@ void CNDTOccupancyMap::TInsertionOptions::loadFromConfigFile(
   decimation_3d_range = readDecimation(source, section, "decimation_3d_range", decimation_3d_range);
   MRPT_LOAD_CONFIG_VAR(min_eigen_ratio, double, source, section);
   MRPT_LOAD_CONFIG_VAR(min_eigen_abs, double, source, section);
+  threads = readThreads(source, section, threads);
   validateSection(section, [this] { toMapOptions(); });
 }
 
@@ -83,6 +102,7 @@ void CNDTOccupancyMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfig
   MRPT_SAVE_CONFIG_VAR_COMMENT(min_eigen_ratio,
                                "Covariance eigenvalue floor, relative to the largest");
   MRPT_SAVE_CONFIG_VAR_COMMENT(min_eigen_abs, "Covariance eigenvalue floor [m^2]");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(threads, "Threads inserting a scan, in [1, 256]; same map for any");
 }
 
 ndtom::MapOptions CNDTOccupancyMap::TInsertionOptions::toMapOptions() const {
@@ -98,6 +118,7 @@ ndtom::MapOptions CNDTOccupancyMap::TInsertionOptions::toMapOptions() const {
   o.insertion.min_range = min_range;
   o.insertion.max_range = max_range;
   o.insertion.ray_mode = ray_mode;
+  o.insertion.threads = threads;
   o.regularization.min_eigen_ratio = min_eigen_ratio;
   o.regularization.min_eigen_abs = min_eigen_abs;
   ndtom::validate(o);
@@ -108,21 +129,23 @@ TPointExtractionOptions CNDTOccupancyMap::TInsertionOptions::extractionOptions()
   return {decimation, decimation_3d_range};
 }
 
+// Version 1 appends threads to version 0.
 void CNDTOccupancyMap::TInsertionOptions::writeToStream(mrpt::serialization::CArchive& out) const {
-  const uint8_t version = 0;
+  const uint8_t version = 1;
   out << version << resolution << occupancy_enabled << p_hit << p_miss << logodds_min << logodds_max
       << min_range << max_range << int32_t(ray_mode) << decimation << decimation_3d_range
-      << min_eigen_ratio << min_eigen_abs;
+      << min_eigen_ratio << min_eigen_abs << threads;
 }
 
 // Reads into a copy and validates it: corrupt data throws (naming the option) and leaves the
-// options as they were.
+// options as they were. Version 0 archives insert with threads = 1, the default.
 void CNDTOccupancyMap::TInsertionOptions::readFromStream(mrpt::serialization::CArchive& in) {
   uint8_t version;
   in >> version;
   TInsertionOptions read;
   switch (version) {
-    case 0: {
+    case 0:
+    case 1: {
       int32_t mode;
       in >> read.resolution;
       read.occupancy_enabled = detail::readBool(in, "insertionOptions.occupancy_enabled");
@@ -132,6 +155,7 @@ void CNDTOccupancyMap::TInsertionOptions::readFromStream(mrpt::serialization::CA
       if (mode != int32_t(ndtom::RayMode::PerPoint) && mode != int32_t(ndtom::RayMode::PerHitCell))
         THROW_EXCEPTION(mrpt::format("insertionOptions.ray_mode = %d: unknown ray mode", mode));
       read.ray_mode = ndtom::RayMode(mode);
+      if (version >= 1) in >> read.threads;
     } break;
     default:
       MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
@@ -146,7 +170,7 @@ bool CNDTOccupancyMap::TInsertionOptions::operator==(const TInsertionOptions& o)
          logodds_max == o.logodds_max && min_range == o.min_range && max_range == o.max_range &&
          ray_mode == o.ray_mode && decimation == o.decimation &&
          decimation_3d_range == o.decimation_3d_range && min_eigen_ratio == o.min_eigen_ratio &&
-         min_eigen_abs == o.min_eigen_abs;
+         min_eigen_abs == o.min_eigen_abs && threads == o.threads;
 }
 
 // --- TLikelihoodOptions ------------------------------------------------------------------

@@ -70,6 +70,8 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
     uint32_t decimation_3d_range{1};  ///< Depth images: every N-th row and column (Default: 1)
     double min_eigen_ratio{0.01};     ///< Covariance eigenvalue floor / largest (Default: 0.01)
     double min_eigen_abs{1e-6};       ///< Covariance eigenvalue floor (Default: 1e-6 m²)
+    /// Threads inserting a scan, in [1, 256]; the map is the same for any count (Default: 1)
+    int32_t threads{1};
 
     /// The core's options; throws std::invalid_argument naming a bad value.
     ndtom::MapOptions toMapOptions() const;
@@ -110,13 +112,14 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
 
   // --- The NDT-OM itself ---------------------------------------------------------------
 
-  /// The core map (its options are those in force at the last insertion).
+  /// The core map (its options are those in force at the last insertion, except `threads`:
+  /// insertPoints() passes insertionOptions.threads with each scan).
   const ndtom::NdtMap& ndtMap() const { return m_map; }
   /// Replaces the contents, e.g. with a map loaded by ndtom::loadMap(); insertionOptions take
   /// the map's resolution, occupancy and regularisation options.
   void setNdtMap(ndtom::NdtMap map);
-  /// Inserts world-frame points seen from `sensor_origin`, with insertionOptions' ranges and
-  /// ray mode. Returns the core's account of every point.
+  /// Inserts world-frame points seen from `sensor_origin`, with insertionOptions' ranges, ray
+  /// mode and threads. Returns the core's account of every point.
   ndtom::InsertionReport insertPoints(const std::vector<Eigen::Vector3d>& points_world,
                                       const Eigen::Vector3d& sensor_origin);
   /// What the last successful insertion did.
