@@ -42,22 +42,32 @@ TEST(ParallelInsertion, AnyThreadCountGivesTheSameMapAndReports) {
     o.resolution = 0.2;
     o.insertion.max_range = 20;  // some rays truncated
     o.insertion.ray_mode = mode;
-    std::vector<uint8_t> reference_file;
+    std::vector<uint8_t> reference_file, reference_coarse;
     std::vector<std::string> reference_reports;
+    std::vector<ndtom::CellIndex> reference_order;
     for (const int threads : {1, 2, 3}) {
       o.insertion.threads = threads;
       ndtom::NdtMap map(o);
       std::vector<std::string> reports;
       for (const Scan& s : scans) reports.push_back(map.insertScan(s.points, s.origin).toString());
       const std::vector<uint8_t> file = ndtom::encodeMap(map);
+      // Blocks are created in the same order too: unordered iteration, and what depends on
+      // it (a coarse cell merges its fine cells in that order), do not change either.
+      std::vector<ndtom::CellIndex> order;
+      map.forEachCell([&](const ndtom::CellView& c) { order.push_back(c.index); });
+      const std::vector<uint8_t> coarse = ndtom::encodeMap(map.coarsened(3));
       if (threads == 1) {
         reference_file = file;
         reference_reports = reports;
+        reference_order = order;
+        reference_coarse = coarse;
         ASSERT_GT(map.numGaussians(), 1000u);
         continue;
       }
       EXPECT_EQ(file, reference_file) << threads << " threads";
       EXPECT_EQ(reports, reference_reports) << threads << " threads";
+      EXPECT_TRUE(order == reference_order) << threads << " threads";
+      EXPECT_EQ(coarse, reference_coarse) << threads << " threads";
     }
   }
 }

@@ -1,7 +1,6 @@
 #include "scan_update.h"
 
 #include <algorithm>
-#include <atomic>
 #include <stdexcept>
 
 #include "ndtom/ray_dda.h"
@@ -258,27 +257,21 @@ void ScanUpdater::traceFreeRays() {
 
   const GridGeometry& geometry = map_.geometry();
   std::vector<size_t> visits(threads, 0);
-  // Threads take chunks of rays as they go: ray lengths differ across the scene, so equal
-  // shares would leave one thread waiting. Counts are summed later, so the map does not
-  // depend on which thread traced which ray.
-  const size_t items = per_point ? s_.kinds.size() : s_.groups.size();
-  const size_t chunk = threads == 1 ? items : std::max<size_t>(kMinRaysPerThread, items / (8 * threads));
-  std::atomic<size_t> next_chunk{0};
+  // Equal contiguous shares, not chunks taken as threads go: the tables' blocks then come in
+  // the order one thread would meet them, and the map's blocks are created in that order
+  // whatever the thread count (iteration order, hence e.g. coarsened(), depends on it).
   runParallel(threads, [&](size_t t) {
     CountingWalker count(s_.counts[t]);
-    for (;;) {
-      const size_t begin = next_chunk.fetch_add(chunk, std::memory_order_relaxed);
-      if (begin >= items) break;
-      const size_t end = std::min(items, begin + chunk);
-      if (per_point) {
-        for (size_t i = begin; i < end; ++i)
-          if (s_.kinds[i] != PointKind::kRejected)
-            count = walkRay(geometry, origin_, s_.ends[i], count);
-      } else {
-        for (size_t i = begin; i < end; ++i) {
-          count.setWeight(s_.groups[i].count);
-          count = walkRay(geometry, origin_, s_.groups[i].mean_end, count);
-        }
+    if (per_point) {
+      const auto [begin, end] = partRange(s_.kinds.size(), threads, t);
+      for (size_t i = begin; i < end; ++i)
+        if (s_.kinds[i] != PointKind::kRejected)
+          count = walkRay(geometry, origin_, s_.ends[i], count);
+    } else {
+      const auto [begin, end] = partRange(s_.groups.size(), threads, t);
+      for (size_t i = begin; i < end; ++i) {
+        count.setWeight(s_.groups[i].count);
+        count = walkRay(geometry, origin_, s_.groups[i].mean_end, count);
       }
     }
     visits[t] = count.visits();
