@@ -237,7 +237,7 @@ void ScanUpdater::traceFreeRays() {
 
 // Everything step 4 needs from the allocator, so the update itself cannot fail half-way:
 // the union of the threads' counter blocks and the hit cells' blocks (in counts[0]), the
-// map's blocks for them, room in the statistics pool and in the threads' lists.
+// map's blocks for them, and in each block room for the statistics its hit cells may gain.
 void ScanUpdater::allocateForApply() {
   auto& grid = map_.grid_;
   const size_t tables = s_.counts_used;
@@ -263,10 +263,22 @@ void ScanUpdater::allocateForApply() {
       s_.map_blocks[i] = &grid.getOrCreate(merged.blockIndex(i), &created);
       if (created) s_.created_blocks.push_back(merged.blockIndex(i));
     }
-    map_.stats_.reserve(report_.cells_hit);
+    // Exact room for the hit cells without statistics: memory follows the statistics.
+    const size_t groups = s_.groups.size();
+    for (size_t first = 0, last = 0; first < groups; first = last) {
+      const CellIndex b = blockOf(s_.groups[first].cell);
+      NdtMap::Block* block = nullptr;
+      size_t missing = 0;
+      for (last = first; last < groups && blockOf(s_.groups[last].cell) == b; ++last) {
+        const EndGroup& g = s_.groups[last];
+        if (!g.hit) continue;
+        if (!block) block = s_.map_blocks[size_t(merged.indexOf(b))];
+        missing += !block->hasStats(offsetInBlock(g.cell));
+      }
+      if (missing > 0) block->stats.reserve(block->stats.size() + missing);
+    }
 
     // Hit groups split in near-equal ranges that never share a block.
-    const size_t groups = s_.groups.size();
     hit_threads_ = threadsFor(report_.cells_hit, kMinGroupsPerThread);
     s_.hit_part_starts.assign(hit_threads_ + 1, groups);
     for (size_t t = 0; t < hit_threads_; ++t) {
@@ -279,15 +291,6 @@ void ScanUpdater::allocateForApply() {
     apply_threads_ = threadsFor(blocks, kMinBlocksPerThread);
     const size_t parts = std::max(apply_threads_, hit_threads_);
     if (s_.apply_parts.size() < parts) s_.apply_parts.resize(parts);
-    if (s_.new_stats.size() < hit_threads_) s_.new_stats.resize(hit_threads_);
-    for (size_t t = 0; t < parts; ++t) {
-      s_.apply_parts[t].freed_slots.reserve(map_.stats_.items.capacity());
-      s_.apply_parts[t].freed_slots.clear();
-    }
-    for (size_t t = 0; t < hit_threads_; ++t) {
-      s_.new_stats[t].clear();
-      s_.new_stats[t].reserve(s_.hit_part_starts[t + 1] - s_.hit_part_starts[t]);
-    }
   } catch (...) {
     for (const CellIndex& b : s_.created_blocks) grid.erase(b);
     throw;
@@ -295,8 +298,7 @@ void ScanUpdater::allocateForApply() {
 }
 
 // Step 4: Eq. 12 once per touched cell, and the RCU merge of the hits. Blocks are split over
-// threads, each block owned by one; the shared statistics pool is only read and updated in
-// place, and slots are freed and taken once the threads are done.
+// threads, each block (with its statistics) owned by one.
 void ScanUpdater::applyToMap() {
   const size_t tables = s_.counts_used;
   // A cell with hits in this scan takes the hit update only (Eq. 12, N_p > 0).
@@ -310,8 +312,6 @@ void ScanUpdater::applyToMap() {
   auto collect = [&](size_t threads) {
     for (size_t t = 0; t < threads; ++t) {
       ScanScratch::ApplyPart& part = s_.apply_parts[t];
-      for (uint32_t slot : part.freed_slots) map_.stats_.remove(slot);
-      part.freed_slots.clear();
       report_.cells_touched += part.touched;
       report_.cells_created += part.created;
       report_.gaussians_gained += part.gaussians_gained;
@@ -327,11 +327,9 @@ void ScanUpdater::applyToMap() {
   });
   collect(apply_threads_);
   runParallel(hit_threads_, [&](size_t t) {
-    applyHits(s_.hit_part_starts[t], s_.hit_part_starts[t + 1], s_.apply_parts[t], s_.new_stats[t]);
+    applyHits(s_.hit_part_starts[t], s_.hit_part_starts[t + 1], s_.apply_parts[t]);
   });
   collect(hit_threads_);
-  for (size_t t = 0; t < hit_threads_; ++t)
-    for (const ScanScratch::NewStats& n : s_.new_stats[t]) *n.slot = map_.stats_.add(n.stats);
   runParallel(tables, [&](size_t t) { s_.counts[t].reset(); });  // their blocks are zero again
 }
 
@@ -342,7 +340,6 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
   const double hi = map_.options().occupancy.logodds_max;
   const double miss = map_.options().occupancy.missLogOdds();
   const size_t others = s_.counts_used - 1;
-  const auto& pool = map_.stats_.items;
   ScanCounts& merged = s_.counts[0];
   for (size_t b = begin; b < end; ++b) {
     CountBlock& counts = merged.block(b);
@@ -353,6 +350,8 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
       other->zero();
     }
     NdtMap::Block& block = *s_.map_blocks[b];
+    NdtMap::Block::Mask drop{};
+    bool dropped = false;
     for (int g = 0; g < kBlockCells; g += kCountGroup) {
       uint32_t any = 0;  // tracking touched groups in the DDA would cost more than this test
       for (int k = 0; k < kCountGroup; ++k) any |= counts.count[g + k];
@@ -361,14 +360,13 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
         const uint32_t n = counts.count[i];
         if (n == 0) continue;
         ++part.touched;
-        uint32_t& slot = block.stats[i];
-        if (slot != NdtMap::kNoStats) {
+        if (block.hasStats(i)) {
           const float logodds = map_.clampLogOdds(double(block.logodds[i]) + double(n) * miss);
           block.logodds[i] = logodds;
           if (logodds <= 0.f) {  // observed empty: the Gaussian goes
-            part.gaussians_lost += pool[slot].hasGaussian();
-            part.freed_slots.push_back(slot);
-            slot = NdtMap::kNoStats;
+            part.gaussians_lost += block.stats[block.statsPos(i)].hasGaussian();
+            drop[i >> 6] |= uint64_t(1) << (i & 63);
+            dropped = true;
           }
           continue;
         }
@@ -380,52 +378,96 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
         block.logodds[i] = float(std::clamp(double(block.logodds[i]) + double(n) * miss, lo, hi));
       }
     }
+    if (dropped) block.eraseStats(drop);
     counts.zero();  // while it is in cache
   }
 }
 
 // Eq. 12 with N_p > 0 and the RCU merge (Eq. 2, 11) for the hit groups [first, last).
-void ScanUpdater::applyHits(size_t first, size_t last, ScanScratch::ApplyPart& part,
-                            std::vector<ScanScratch::NewStats>& new_stats) {
+void ScanUpdater::applyHits(size_t first, size_t last, ScanScratch::ApplyPart& part) {
+  const ScanCounts& merged = s_.counts[0];
+  for (size_t begin = first, end = first; begin < last; begin = end) {
+    const CellIndex b = blockOf(s_.groups[begin].cell);
+    while (end < last && blockOf(s_.groups[end].cell) == b) ++end;
+    if (const int64_t k = merged.indexOf(b); k >= 0)  // else only truncated ends: no hits
+      applyHitsToBlock(*s_.map_blocks[size_t(k)], begin, end, part);
+  }
+}
+
+// The same for one block's groups [first, last), in offset order. Statistics are merged in
+// place; cells losing theirs are erased, then new ones inserted, each in one pass.
+void ScanUpdater::applyHitsToBlock(NdtMap::Block& block, size_t first, size_t last,
+                                   ScanScratch::ApplyPart& part) {
   const double hit = map_.options().occupancy.hitLogOdds();
   const bool occupancy = map_.options().occupancy.enabled;
-  auto& pool = map_.stats_.items;
-  const ScanCounts& merged = s_.counts[0];
-  CellIndex current{};
-  NdtMap::Block* block = nullptr;
+  NdtMap::Block::Mask added{}, drop{};
+  bool any_added = false, any_dropped = false;
+  int word = 0;       // statistics positions advance with the offsets:
+  size_t before = 0;  // cells with statistics in the words before `word`
   for (size_t group = first; group < last; ++group) {
     const EndGroup& g = s_.groups[group];
     if (!g.hit) continue;
-    const CellIndex b = blockOf(g.cell);
-    if (!block || b != current) {
-      block = s_.map_blocks[size_t(merged.indexOf(b))];
-      current = b;
-    }
     const int i = offsetInBlock(g.cell);
     ++part.touched;
-    if (!block->known[i]) {
-      block->known.set(i);
-      block->logodds[i] = 0.f;
+    if (!block.known[i]) {
+      block.known.set(i);
+      block.logodds[i] = 0.f;
       ++part.created;
     }
-    const float logodds = map_.clampLogOdds(double(block->logodds[i]) + double(g.count) * hit);
-    block->logodds[i] = logodds;
-    uint32_t& slot = block->stats[i];
-    const bool had_gaussian = slot != NdtMap::kNoStats && pool[slot].hasGaussian();
-    bool has_gaussian = false;
-    if (occupancy && logodds <= 0.f) {
-      // Still observed empty: no Gaussian; later hits start a new one.
-      if (slot != NdtMap::kNoStats) part.freed_slots.push_back(slot);
-      slot = NdtMap::kNoStats;
-    } else if (slot != NdtMap::kNoStats) {
-      pool[slot].merge(groupStats(g));
-      has_gaussian = pool[slot].hasGaussian();
-    } else {
-      new_stats.push_back({&slot, groupStats(g)});
-      has_gaussian = new_stats.back().stats.hasGaussian();
+    const float logodds = map_.clampLogOdds(double(block.logodds[i]) + double(g.count) * hit);
+    block.logodds[i] = logodds;
+    // Still observed empty: no Gaussian; later hits start a new one.
+    const bool empty = occupancy && logodds <= 0.f;
+    const int w = i >> 6;
+    const uint64_t bit = uint64_t(1) << (i & 63);
+    if (!(block.has_stats[w] & bit)) {
+      added[w] |= empty ? 0 : bit;
+      any_added |= !empty;
+      continue;
     }
-    part.gaussians_gained += !had_gaussian && has_gaussian;
-    part.gaussians_lost += had_gaussian && !has_gaussian;
+    for (; word < w; ++word) before += size_t(__builtin_popcountll(block.has_stats[word]));
+    CellStats& stats =
+        block.stats[before + size_t(__builtin_popcountll(block.has_stats[w] & (bit - 1)))];
+    if (empty) {
+      part.gaussians_lost += stats.hasGaussian();
+      drop[w] |= bit;
+      any_dropped = true;
+      continue;
+    }
+    const bool had_gaussian = stats.hasGaussian();
+    stats.merge(groupStats(g));
+    part.gaussians_gained += !had_gaussian && stats.hasGaussian();
+  }
+  if (any_dropped) block.eraseStats(drop);
+  if (any_added) insertNewStats(block, added, last, part);
+}
+
+// Gives the cells in `added` (hit by the block's groups before `last`) their statistics in one
+// pass from the block's end down, moving each older entry once, within allocateForApply's room.
+void ScanUpdater::insertNewStats(NdtMap::Block& block, const NdtMap::Block::Mask& added,
+                                 size_t last, ScanScratch::ApplyPart& part) {
+  size_t count = 0;
+  for (const uint64_t bits : added) count += size_t(__builtin_popcountll(bits));
+  size_t src = block.stats.size(), dst = src + count;
+  block.stats.resize(dst);
+  size_t group = last;
+  for (int w = NdtMap::Block::kWords - 1; dst > src; --w) {
+    uint64_t bits = block.has_stats[w] | added[w];
+    while (bits != 0 && dst > src) {
+      const int b = 63 - __builtin_clzll(bits);
+      const uint64_t bit = uint64_t(1) << b;
+      bits &= ~bit;
+      if (!(added[w] & bit)) {
+        block.stats[--dst] = std::move(block.stats[--src]);
+        continue;
+      }
+      const int i = w * 64 + b;
+      do --group;
+      while (!s_.groups[group].hit || offsetInBlock(s_.groups[group].cell) != i);
+      block.stats[--dst] = groupStats(s_.groups[group]);
+      part.gaussians_gained += block.stats[dst].hasGaussian();
+    }
+    block.has_stats[w] |= added[w];
   }
 }
 

@@ -45,19 +45,11 @@ struct ScanScratch {
   std::vector<CountBlock*> other_counts;  ///< [block * (counts_used-1) + t-1], or nullptr
   std::vector<NdtMap::Block*> map_blocks;  ///< the map's block of each counts[0] block
   std::vector<CellIndex> created_blocks;   ///< map blocks this scan created, for a rollback
-  /// What one thread of the free-space update did.
+  /// What one thread of the map update did.
   struct ApplyPart {
     size_t touched = 0, created = 0, gaussians_gained = 0, gaussians_lost = 0;
-    std::vector<uint32_t> freed_slots;  ///< statistics to free once the threads are done
   };
   std::vector<ApplyPart> apply_parts;
-  /// Hit cells that need a new statistics slot, per applying thread: slots are taken from
-  /// the shared pool once the threads are done.
-  struct NewStats {
-    uint32_t* slot;
-    CellStats stats;
-  };
-  std::vector<std::vector<NewStats>> new_stats;
   std::vector<size_t> hit_part_starts;  ///< group ranges of the hit threads, split at blocks
 };
 
@@ -77,8 +69,11 @@ class ScanUpdater {
   PointKind classifyPoint(const Eigen::Vector3d& p, Eigen::Vector3d& end,
                           InsertionReport& report) const;
   void applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPart& part);
-  void applyHits(size_t first_group, size_t last_group, ScanScratch::ApplyPart& part,
-                 std::vector<ScanScratch::NewStats>& new_stats);
+  void applyHits(size_t first_group, size_t last_group, ScanScratch::ApplyPart& part);
+  void applyHitsToBlock(NdtMap::Block& block, size_t first_group, size_t last_group,
+                        ScanScratch::ApplyPart& part);
+  void insertNewStats(NdtMap::Block& block, const NdtMap::Block::Mask& added, size_t last_group,
+                      ScanScratch::ApplyPart& part);
   CellStats groupStats(const EndGroup& g) const;
   size_t threadsFor(size_t items, size_t min_items_per_thread) const;
 
