@@ -8,18 +8,12 @@
 
 namespace ndtom {
 
-void NdtMap::Block::eraseStats(const Mask& drop) {
-  size_t src = 0, dst = 0;
-  for (int w = 0; w < kWords; ++w) {
-    for (uint64_t bits = has_stats[w]; bits != 0; bits &= bits - 1, ++src) {
-      const uint64_t lowest = bits & (~bits + 1);
-      if (drop[w] & lowest) continue;
-      if (dst != src) stats[dst] = std::move(stats[src]);
-      ++dst;
-    }
-    has_stats[w] &= ~drop[w];
-  }
-  stats.erase(stats.begin() + std::ptrdiff_t(dst), stats.end());
+bool NdtMap::Block::eraseStats(int i) {
+  const auto pos = stats.begin() + std::ptrdiff_t(statsPos(i));
+  const bool gaussian = pos->hasGaussian();
+  stats.erase(pos);
+  has_stats[i >> 6] &= ~(uint64_t(1) << (i & 63));
+  return gaussian;
 }
 
 NdtMap::Scratch::Scratch() : p_(std::make_unique<ScanScratch>()) {}
@@ -122,16 +116,13 @@ void NdtMap::setCell(const CellIndex& index, float logodds, const CellStats& sta
     ++num_cells_;
   }
   block.logodds[i] = clampLogOdds(logodds);
-  const auto pos = block.stats.begin() + std::ptrdiff_t(block.statsPos(i));
-  const uint64_t bit = uint64_t(1) << (i & 63);
   if (stats.n == 0) {
-    if (block.hasStats(i)) block.stats.erase(pos);
-    block.has_stats[i >> 6] &= ~bit;
+    if (block.hasStats(i)) block.eraseStats(i);
   } else if (block.hasStats(i)) {
-    *pos = stats;
+    block.stats[block.statsPos(i)] = stats;
   } else {
-    block.stats.insert(pos, stats);
-    block.has_stats[i >> 6] |= bit;
+    block.stats.insert(block.stats.begin() + std::ptrdiff_t(block.statsPos(i)), stats);
+    block.has_stats[i >> 6] |= uint64_t(1) << (i & 63);
   }
 }
 

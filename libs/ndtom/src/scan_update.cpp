@@ -122,6 +122,7 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
 // RCU merges into the cell (Eq. 2, 11).
 void ScanUpdater::groupEndsByCell() {
   s_.groups.clear();
+  s_.hit_blocks.clear();
   s_.ray_ends.clear();
   group_means_ready_ = false;
   const size_t used = report_.pointsUsed();
@@ -157,6 +158,7 @@ void ScanUpdater::groupEndsByCell() {
     for (size_t i = begin; i < end; ++i) s_.sorted_ends[i] = s_.ends[s_.ray_ends[i].point];
   });
 
+  uint64_t last_hit_block = 0;  // dense index of s_.hit_blocks.back()'s block
   for (size_t i = 0; i < used; ++i) {
     if (i > 0 && s_.ray_ends[i].key == s_.ray_ends[i - 1].key) {
       ++s_.groups.back().count;
@@ -166,6 +168,19 @@ void ScanUpdater::groupEndsByCell() {
     s_.groups.push_back({s_.end_cells[s_.ray_ends[i].point], uint32_t(i), 1, hit,
                          Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
     report_.cells_hit += hit;
+    if (!hit) continue;
+    // The key's dense index is block * kBlockCells + offset: the block and its hit cells
+    // come without recomputing them from the cell.
+    const uint64_t dense = s_.ray_ends[i].key >> 1;
+    const uint64_t block = dense / kBlockCells;
+    if (s_.hit_blocks.empty() || block != last_hit_block) {
+      s_.hit_blocks.push_back({s_.groups.size() - 1, 0, nullptr, {}, {}});
+      last_hit_block = block;
+    }
+    ScanScratch::HitBlock& h = s_.hit_blocks.back();
+    h.last_group = s_.groups.size();
+    const uint64_t offset = dense % kBlockCells;
+    h.hits[offset / 64] |= uint64_t(1) << (offset % 64);
   }
   group_means_ready_ = options_.ray_mode == RayMode::PerHitCell && map_.options().occupancy.enabled;
   if (!group_means_ready_) return;
@@ -247,10 +262,8 @@ void ScanUpdater::allocateForApply() {
     for (size_t t = 1; t < tables; ++t)
       for (size_t i = 0; i < s_.counts[t].numBlocks(); ++i)
         merged.blockAt(s_.counts[t].blockIndex(i));
-    for (size_t i = 0; i < s_.groups.size(); ++i)  // a block's groups are contiguous
-      if (s_.groups[i].hit &&
-          (i == 0 || blockOf(s_.groups[i].cell) != blockOf(s_.groups[i - 1].cell)))
-        merged.blockAt(blockOf(s_.groups[i].cell));
+    for (const ScanScratch::HitBlock& h : s_.hit_blocks)
+      merged.blockAt(blockOf(s_.groups[h.first_group].cell));
     const size_t blocks = merged.numBlocks();
     s_.other_counts.resize(blocks * (tables - 1));
     for (size_t i = 0; i < blocks; ++i)
@@ -263,30 +276,28 @@ void ScanUpdater::allocateForApply() {
       s_.map_blocks[i] = &grid.getOrCreate(merged.blockIndex(i), &created);
       if (created) s_.created_blocks.push_back(merged.blockIndex(i));
     }
-    // Exact room for the hit cells without statistics: memory follows the statistics.
-    const size_t groups = s_.groups.size();
-    for (size_t first = 0, last = 0; first < groups; first = last) {
-      const CellIndex b = blockOf(s_.groups[first].cell);
-      NdtMap::Block* block = nullptr;
+    // Exact room for the statistics each hit block's cells may gain (hit cells without
+    // any): memory follows the statistics.
+    for (ScanScratch::HitBlock& h : s_.hit_blocks) {
+      h.block = s_.map_blocks[size_t(merged.indexOf(blockOf(s_.groups[h.first_group].cell)))];
       size_t missing = 0;
-      for (last = first; last < groups && blockOf(s_.groups[last].cell) == b; ++last) {
-        const EndGroup& g = s_.groups[last];
-        if (!g.hit) continue;
-        if (!block) block = s_.map_blocks[size_t(merged.indexOf(b))];
-        missing += !block->hasStats(offsetInBlock(g.cell));
-      }
-      if (missing > 0) block->stats.reserve(block->stats.size() + missing);
+      for (int w = 0; w < NdtMap::Block::kWords; ++w)
+        if (const uint64_t m = h.hits[w] & ~h.block->has_stats[w])
+          missing += size_t(__builtin_popcountll(m));
+      if (missing > 0) h.grown.reserve(h.block->stats.size() + missing);
     }
 
-    // Hit groups split in near-equal ranges that never share a block.
+    // Hit blocks split in near-equal ranges of groups.
+    const size_t groups = s_.groups.size();
     hit_threads_ = threadsFor(report_.cells_hit, kMinGroupsPerThread);
-    s_.hit_part_starts.assign(hit_threads_ + 1, groups);
-    for (size_t t = 0; t < hit_threads_; ++t) {
-      size_t start = partRange(groups, hit_threads_, t).first;
-      while (start > 0 && start < groups &&
-             blockOf(s_.groups[start].cell) == blockOf(s_.groups[start - 1].cell))
-        ++start;
-      s_.hit_part_starts[t] = std::max(start, t > 0 ? s_.hit_part_starts[t - 1] : 0);
+    s_.hit_part_starts.resize(hit_threads_ + 1);
+    for (size_t t = 0; t <= hit_threads_; ++t) {
+      const size_t start = partRange(groups, hit_threads_, t).first;
+      s_.hit_part_starts[t] =
+          size_t(std::lower_bound(
+                     s_.hit_blocks.begin(), s_.hit_blocks.end(), start,
+                     [](const ScanScratch::HitBlock& h, size_t g) { return h.first_group < g; }) -
+                 s_.hit_blocks.begin());
     }
     apply_threads_ = threadsFor(blocks, kMinBlocksPerThread);
     const size_t parts = std::max(apply_threads_, hit_threads_);
@@ -327,7 +338,8 @@ void ScanUpdater::applyToMap() {
   });
   collect(apply_threads_);
   runParallel(hit_threads_, [&](size_t t) {
-    applyHits(s_.hit_part_starts[t], s_.hit_part_starts[t + 1], s_.apply_parts[t]);
+    for (size_t k = s_.hit_part_starts[t]; k < s_.hit_part_starts[t + 1]; ++k)
+      applyHits(s_.hit_blocks[k], s_.apply_parts[t]);
   });
   collect(hit_threads_);
   runParallel(tables, [&](size_t t) { s_.counts[t].reset(); });  // their blocks are zero again
@@ -350,24 +362,21 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
       other->zero();
     }
     NdtMap::Block& block = *s_.map_blocks[b];
-    NdtMap::Block::Mask drop{};
-    bool dropped = false;
     for (int g = 0; g < kBlockCells; g += kCountGroup) {
       uint32_t any = 0;  // tracking touched groups in the DDA would cost more than this test
       for (int k = 0; k < kCountGroup; ++k) any |= counts.count[g + k];
       if (any == 0) continue;
+      // The group's has_stats word, loaded once: testing it is as cheap as a per-cell slot.
+      static_assert(64 % kCountGroup == 0, "a group's bits lie in one word");
+      const uint64_t has = block.has_stats[g >> 6];
       for (int i = g; i < g + kCountGroup; ++i) {
         const uint32_t n = counts.count[i];
         if (n == 0) continue;
         ++part.touched;
-        if (block.hasStats(i)) {
+        if ((has >> (i & 63)) & 1) {
           const float logodds = map_.clampLogOdds(double(block.logodds[i]) + double(n) * miss);
           block.logodds[i] = logodds;
-          if (logodds <= 0.f) {  // observed empty: the Gaussian goes
-            part.gaussians_lost += block.stats[block.statsPos(i)].hasGaussian();
-            drop[i >> 6] |= uint64_t(1) << (i & 63);
-            dropped = true;
-          }
+          if (logodds <= 0.f) part.gaussians_lost += block.eraseStats(i);  // observed empty
           continue;
         }
         if (!block.known[i]) {
@@ -378,33 +387,33 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
         block.logodds[i] = float(std::clamp(double(block.logodds[i]) + double(n) * miss, lo, hi));
       }
     }
-    if (dropped) block.eraseStats(drop);
     counts.zero();  // while it is in cache
   }
 }
 
-// Eq. 12 with N_p > 0 and the RCU merge (Eq. 2, 11) for the hit groups [first, last).
-void ScanUpdater::applyHits(size_t first, size_t last, ScanScratch::ApplyPart& part) {
-  const ScanCounts& merged = s_.counts[0];
-  for (size_t begin = first, end = first; begin < last; begin = end) {
-    const CellIndex b = blockOf(s_.groups[begin].cell);
-    while (end < last && blockOf(s_.groups[end].cell) == b) ++end;
-    if (const int64_t k = merged.indexOf(b); k >= 0)  // else only truncated ends: no hits
-      applyHitsToBlock(*s_.map_blocks[size_t(k)], begin, end, part);
-  }
-}
-
-// The same for one block's groups [first, last), in offset order. Statistics are merged in
-// place; cells losing theirs are erased, then new ones inserted, each in one pass.
-void ScanUpdater::applyHitsToBlock(NdtMap::Block& block, size_t first, size_t last,
-                                   ScanScratch::ApplyPart& part) {
+// Eq. 12 with N_p > 0 and the RCU merge (Eq. 2, 11) for one block's hit groups, in offset
+// order. The block's statistics are walked in step: updated in place or, if the block gains
+// some, moved with the new ones into the array allocateForApply made.
+void ScanUpdater::applyHits(ScanScratch::HitBlock& hb, ScanScratch::ApplyPart& part) {
   const double hit = map_.options().occupancy.hitLogOdds();
   const bool occupancy = map_.options().occupancy.enabled;
-  NdtMap::Block::Mask added{}, drop{};
-  bool any_added = false, any_dropped = false;
-  int word = 0;       // statistics positions advance with the offsets:
-  size_t before = 0;  // cells with statistics in the words before `word`
-  for (size_t group = first; group < last; ++group) {
+  NdtMap::Block& block = *hb.block;
+  std::vector<CellStats>* grown = hb.grown.capacity() > 0 ? &hb.grown : nullptr;
+  const NdtMap::Block::Mask had = block.has_stats;
+  size_t src = 0;          // position in block.stats of the next cell in `had`
+  int word = 0;            // that cell is in had[word], among
+  uint64_t bits = had[0];  // the bits not passed yet
+  // Passes the cells with statistics before offset `end`, moving them if the block grows.
+  auto passTo = [&](int end) {
+    for (;;) {
+      while (bits == 0 && word + 1 < NdtMap::Block::kWords) bits = had[++word];
+      if (bits == 0 || word * 64 + __builtin_ctzll(bits) >= end) return;
+      if (grown) grown->push_back(std::move(block.stats[src]));
+      ++src;
+      bits &= bits - 1;
+    }
+  };
+  for (size_t group = hb.first_group; group < hb.last_group; ++group) {
     const EndGroup& g = s_.groups[group];
     if (!g.hit) continue;
     const int i = offsetInBlock(g.cell);
@@ -418,57 +427,35 @@ void ScanUpdater::applyHitsToBlock(NdtMap::Block& block, size_t first, size_t la
     block.logodds[i] = logodds;
     // Still observed empty: no Gaussian; later hits start a new one.
     const bool empty = occupancy && logodds <= 0.f;
-    const int w = i >> 6;
     const uint64_t bit = uint64_t(1) << (i & 63);
-    if (!(block.has_stats[w] & bit)) {
-      added[w] |= empty ? 0 : bit;
-      any_added |= !empty;
+    passTo(i);
+    if (!(had[i >> 6] & bit)) {
+      if (empty) continue;
+      grown->push_back(groupStats(g));  // allocateForApply counted this cell
+      block.has_stats[i >> 6] |= bit;
+      part.gaussians_gained += grown->back().hasGaussian();
       continue;
     }
-    for (; word < w; ++word) before += size_t(__builtin_popcountll(block.has_stats[word]));
-    CellStats& stats =
-        block.stats[before + size_t(__builtin_popcountll(block.has_stats[w] & (bit - 1)))];
-    if (empty) {
-      part.gaussians_lost += stats.hasGaussian();
-      drop[w] |= bit;
-      any_dropped = true;
+    bits &= bits - 1;  // passTo stopped at cell i
+    if (empty) {       // only setCell leaves statistics in an empty cell
+      if (grown) {
+        part.gaussians_lost += block.stats[src++].hasGaussian();
+        block.has_stats[i >> 6] &= ~bit;
+      } else {
+        part.gaussians_lost += block.eraseStats(i);  // the next ones move down to src
+      }
       continue;
     }
+    CellStats& stats = block.stats[src++];
     const bool had_gaussian = stats.hasGaussian();
     stats.merge(groupStats(g));
     part.gaussians_gained += !had_gaussian && stats.hasGaussian();
+    if (grown) grown->push_back(std::move(stats));
   }
-  if (any_dropped) block.eraseStats(drop);
-  if (any_added) insertNewStats(block, added, last, part);
-}
-
-// Gives the cells in `added` (hit by the block's groups before `last`) their statistics in one
-// pass from the block's end down, moving each older entry once, within allocateForApply's room.
-void ScanUpdater::insertNewStats(NdtMap::Block& block, const NdtMap::Block::Mask& added,
-                                 size_t last, ScanScratch::ApplyPart& part) {
-  size_t count = 0;
-  for (const uint64_t bits : added) count += size_t(__builtin_popcountll(bits));
-  size_t src = block.stats.size(), dst = src + count;
-  block.stats.resize(dst);
-  size_t group = last;
-  for (int w = NdtMap::Block::kWords - 1; dst > src; --w) {
-    uint64_t bits = block.has_stats[w] | added[w];
-    while (bits != 0 && dst > src) {
-      const int b = 63 - __builtin_clzll(bits);
-      const uint64_t bit = uint64_t(1) << b;
-      bits &= ~bit;
-      if (!(added[w] & bit)) {
-        block.stats[--dst] = std::move(block.stats[--src]);
-        continue;
-      }
-      const int i = w * 64 + b;
-      do --group;
-      while (!s_.groups[group].hit || offsetInBlock(s_.groups[group].cell) != i);
-      block.stats[--dst] = groupStats(s_.groups[group]);
-      part.gaussians_gained += block.stats[dst].hasGaussian();
-    }
-    block.has_stats[w] |= added[w];
-  }
+  if (!grown) return;
+  passTo(kBlockCells);
+  block.stats.swap(*grown);
+  std::vector<CellStats>().swap(*grown);  // frees the old array
 }
 
 }  // namespace ndtom

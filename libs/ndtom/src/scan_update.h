@@ -50,7 +50,17 @@ struct ScanScratch {
     size_t touched = 0, created = 0, gaussians_gained = 0, gaussians_lost = 0;
   };
   std::vector<ApplyPart> apply_parts;
-  std::vector<size_t> hit_part_starts;  ///< group ranges of the hit threads, split at blocks
+  /// A map block with hits in this scan: the unit of the hit update, owned by one thread.
+  struct HitBlock {
+    size_t first_group, last_group;  ///< from its first hit group to its last (in `groups`)
+    NdtMap::Block* block;            ///< set by allocateForApply
+    NdtMap::Block::Mask hits;        ///< its hit cells
+    /// If its cells may gain statistics: an empty array with room for all the block will
+    /// have, made before the map changes; its statistics move there. Else no capacity.
+    std::vector<CellStats> grown;
+  };
+  std::vector<HitBlock> hit_blocks;
+  std::vector<size_t> hit_part_starts;  ///< hit_blocks ranges of the hit threads
 };
 
 class ScanUpdater {
@@ -69,11 +79,7 @@ class ScanUpdater {
   PointKind classifyPoint(const Eigen::Vector3d& p, Eigen::Vector3d& end,
                           InsertionReport& report) const;
   void applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPart& part);
-  void applyHits(size_t first_group, size_t last_group, ScanScratch::ApplyPart& part);
-  void applyHitsToBlock(NdtMap::Block& block, size_t first_group, size_t last_group,
-                        ScanScratch::ApplyPart& part);
-  void insertNewStats(NdtMap::Block& block, const NdtMap::Block::Mask& added, size_t last_group,
-                      ScanScratch::ApplyPart& part);
+  void applyHits(ScanScratch::HitBlock& hit_block, ScanScratch::ApplyPart& part);
   CellStats groupStats(const EndGroup& g) const;
   size_t threadsFor(size_t items, size_t min_items_per_thread) const;
 

@@ -119,8 +119,9 @@ class NdtMap {
       return pos + size_t(__builtin_popcountll(has_stats[i >> 6] & below));
     }
     const CellStats* statsOf(int i) const { return hasStats(i) ? &stats[statsPos(i)] : nullptr; }
-    /// Drops the statistics of the cells in `drop` (all have some); never allocates.
-    void eraseStats(const Mask& drop);
+    /// Drops cell i's statistics (it has some); never allocates. Returns whether they were a
+    /// Gaussian.
+    bool eraseStats(int i);
   };
 
   /// Insertion's reusable buffers: owned, never copied, not part of the map's value.
