@@ -8,25 +8,12 @@
 
 namespace ndtom {
 
-uint32_t NdtMap::StatsPool::add(const CellStats& s) {
-  if (!free_slots.empty()) {
-    const uint32_t slot = free_slots.back();
-    free_slots.pop_back();
-    items[slot] = s;
-    return slot;
-  }
-  items.push_back(s);
-  return uint32_t(items.size() - 1);
-}
-
-void NdtMap::StatsPool::reserve(size_t extra) {
-  if (extra > free_slots.size()) {
-    // Grow geometrically: an exact reserve would copy the whole pool at every scan.
-    const size_t needed = items.size() + extra - free_slots.size();
-    if (needed > items.capacity()) items.reserve(std::max(needed, 2 * items.capacity()));
-  }
-  // remove() must not allocate either: every live slot may be freed.
-  free_slots.reserve(items.capacity());
+bool NdtMap::Block::eraseStats(int i) {
+  const auto pos = stats.begin() + std::ptrdiff_t(statsPos(i));
+  const bool gaussian = pos->hasGaussian();
+  stats.erase(pos);
+  has_stats[i >> 6] &= ~(uint64_t(1) << (i & 63));
+  return gaussian;
 }
 
 NdtMap::Scratch::Scratch() : p_(std::make_unique<ScanScratch>()) {}
@@ -56,9 +43,8 @@ InsertionReport NdtMap::insertScan(const std::vector<Eigen::Vector3d>& points,
 
 size_t NdtMap::numGaussians() const {
   size_t n = 0;
-  for (size_t i = 0; i < stats_.items.size(); ++i) n += stats_.items[i].hasGaussian();
-  // Freed slots keep their old contents: subtract those that still look like Gaussians.
-  for (uint32_t slot : stats_.free_slots) n -= stats_.items[slot].hasGaussian();
+  for (const auto& [block_index, block] : grid_.blocks())
+    for (const CellStats& s : block->stats) n += s.hasGaussian();
   return n;
 }
 
@@ -73,8 +59,7 @@ std::optional<CellView> NdtMap::cell(const CellIndex& index) const {
   if (!block) return std::nullopt;
   const int i = offsetInBlock(index);
   if (!block->known[i]) return std::nullopt;
-  const uint32_t slot = block->stats[i];
-  return CellView{index, block->logodds[i], slot == kNoStats ? nullptr : &stats_.items[slot]};
+  return CellView{index, block->logodds[i], block->statsOf(i)};
 }
 
 std::optional<CellView> NdtMap::cellAt(const Eigen::Vector3d& point) const {
@@ -105,14 +90,18 @@ std::optional<Gaussian> NdtMap::gaussian(const CellIndex& index, bool regularize
 }
 
 size_t NdtMap::memoryBytes() const {
-  return grid_.memoryBytes() + stats_.items.capacity() * sizeof(CellStats) +
-         stats_.free_slots.capacity() * sizeof(uint32_t);
+  // glibc's malloc: a chunk header and rounding to 16 bytes for each statistics array.
+  constexpr size_t kHeapBlockOverhead = 16;
+  size_t bytes = grid_.memoryBytes();
+  for (const auto& [block_index, block] : grid_.blocks())
+    if (const size_t capacity = block->stats.capacity())
+      bytes += capacity * sizeof(CellStats) + kHeapBlockOverhead;
+  return bytes;
 }
 
 void NdtMap::clear() {
   grid_.clear();
   scratch_ = Scratch();
-  stats_ = StatsPool{};
   num_cells_ = 0;
 }
 
@@ -127,14 +116,13 @@ void NdtMap::setCell(const CellIndex& index, float logodds, const CellStats& sta
     ++num_cells_;
   }
   block.logodds[i] = clampLogOdds(logodds);
-  uint32_t& slot = block.stats[i];
   if (stats.n == 0) {
-    if (slot != kNoStats) stats_.remove(slot);
-    slot = kNoStats;
-  } else if (slot == kNoStats) {
-    slot = stats_.add(stats);
+    if (block.hasStats(i)) block.eraseStats(i);
+  } else if (block.hasStats(i)) {
+    block.stats[block.statsPos(i)] = stats;
   } else {
-    stats_.items[slot] = stats;
+    block.stats.insert(block.stats.begin() + std::ptrdiff_t(block.statsPos(i)), stats);
+    block.has_stats[i >> 6] |= uint64_t(1) << (i & 63);
   }
 }
 

@@ -141,6 +141,7 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
 // RCU merges into the cell (Eq. 2, 11).
 void ScanUpdater::groupEndsByCell() {
   s_.groups.clear();
+  s_.hit_blocks.clear();
   s_.ray_ends.clear();
   group_means_ready_ = false;
   const size_t used = report_.pointsUsed();
@@ -220,6 +221,22 @@ void ScanUpdater::groupEndsByCell() {
     }
   });
   for (size_t n : hits) report_.cells_hit += n;
+
+  // Hit blocks and their hit cells, from the keys (dense index = block * kBlockCells + offset).
+  uint64_t last_hit_block = 0;  // dense index of s_.hit_blocks.back()'s block
+  for (size_t group = 0; group < s_.groups.size(); ++group) {
+    if (!s_.groups[group].hit) continue;
+    const uint64_t dense = s_.ray_ends[s_.groups[group].begin].key >> 1;
+    const uint64_t block = dense / kBlockCells;
+    if (s_.hit_blocks.empty() || block != last_hit_block) {
+      s_.hit_blocks.push_back({group, 0, nullptr, {}, {}});
+      last_hit_block = block;
+    }
+    ScanScratch::HitBlock& h = s_.hit_blocks.back();
+    h.last_group = group + 1;
+    const uint64_t offset = dense % kBlockCells;
+    h.hits[offset / 64] |= uint64_t(1) << (offset % 64);
+  }
 }
 
 // Two-pass statistics (Eq. 1) of a group's points, relative to its cell's centre.
@@ -282,7 +299,7 @@ void ScanUpdater::traceFreeRays() {
 
 // Everything step 4 needs from the allocator, so the update itself cannot fail half-way:
 // the union of the threads' counter blocks and the hit cells' blocks (in counts[0]), the
-// map's blocks for them, room in the statistics pool and in the threads' lists.
+// map's blocks for them, and in each block room for the statistics its hit cells may gain.
 void ScanUpdater::allocateForApply() {
   auto& grid = map_.grid_;
   const size_t tables = s_.counts_used;
@@ -292,10 +309,8 @@ void ScanUpdater::allocateForApply() {
     for (size_t t = 1; t < tables; ++t)
       for (size_t i = 0; i < s_.counts[t].numBlocks(); ++i)
         merged.blockAt(s_.counts[t].blockIndex(i));
-    for (size_t i = 0; i < s_.groups.size(); ++i)  // a block's groups are contiguous
-      if (s_.groups[i].hit &&
-          (i == 0 || blockOf(s_.groups[i].cell) != blockOf(s_.groups[i - 1].cell)))
-        merged.blockAt(blockOf(s_.groups[i].cell));
+    for (const ScanScratch::HitBlock& h : s_.hit_blocks)
+      merged.blockAt(blockOf(s_.groups[h.first_group].cell));
     const size_t blocks = merged.numBlocks();
     s_.other_counts.resize(blocks * (tables - 1));
     for (size_t i = 0; i < blocks; ++i)
@@ -308,31 +323,32 @@ void ScanUpdater::allocateForApply() {
       s_.map_blocks[i] = &grid.getOrCreate(merged.blockIndex(i), &created);
       if (created) s_.created_blocks.push_back(merged.blockIndex(i));
     }
-    map_.stats_.reserve(report_.cells_hit);
+    // Exact room for the statistics each hit block's cells may gain (hit cells without
+    // any): memory follows the statistics.
+    for (ScanScratch::HitBlock& h : s_.hit_blocks) {
+      h.block = s_.map_blocks[size_t(merged.indexOf(blockOf(s_.groups[h.first_group].cell)))];
+      size_t missing = 0;
+      for (int w = 0; w < NdtMap::Block::kWords; ++w)
+        if (const uint64_t m = h.hits[w] & ~h.block->has_stats[w])
+          missing += size_t(__builtin_popcountll(m));
+      if (missing > 0) h.grown.reserve(h.block->stats.size() + missing);
+    }
 
-    // Hit groups split in near-equal ranges that never share a block.
+    // Hit blocks split in near-equal ranges of groups.
     const size_t groups = s_.groups.size();
     hit_threads_ = threadsFor(report_.cells_hit, kMinGroupsPerThread);
-    s_.hit_part_starts.assign(hit_threads_ + 1, groups);
-    for (size_t t = 0; t < hit_threads_; ++t) {
-      size_t start = partRange(groups, hit_threads_, t).first;
-      while (start > 0 && start < groups &&
-             blockOf(s_.groups[start].cell) == blockOf(s_.groups[start - 1].cell))
-        ++start;
-      s_.hit_part_starts[t] = std::max(start, t > 0 ? s_.hit_part_starts[t - 1] : 0);
+    s_.hit_part_starts.resize(hit_threads_ + 1);
+    for (size_t t = 0; t <= hit_threads_; ++t) {
+      const size_t start = partRange(groups, hit_threads_, t).first;
+      s_.hit_part_starts[t] =
+          size_t(std::lower_bound(
+                     s_.hit_blocks.begin(), s_.hit_blocks.end(), start,
+                     [](const ScanScratch::HitBlock& h, size_t g) { return h.first_group < g; }) -
+                 s_.hit_blocks.begin());
     }
     apply_threads_ = threadsFor(blocks, kMinBlocksPerThread);
     const size_t parts = std::max(apply_threads_, hit_threads_);
     if (s_.apply_parts.size() < parts) s_.apply_parts.resize(parts);
-    if (s_.new_stats.size() < hit_threads_) s_.new_stats.resize(hit_threads_);
-    for (size_t t = 0; t < parts; ++t) {
-      s_.apply_parts[t].freed_slots.reserve(map_.stats_.items.capacity());
-      s_.apply_parts[t].freed_slots.clear();
-    }
-    for (size_t t = 0; t < hit_threads_; ++t) {
-      s_.new_stats[t].clear();
-      s_.new_stats[t].reserve(s_.hit_part_starts[t + 1] - s_.hit_part_starts[t]);
-    }
   } catch (...) {
     for (const CellIndex& b : s_.created_blocks) grid.erase(b);
     throw;
@@ -340,8 +356,7 @@ void ScanUpdater::allocateForApply() {
 }
 
 // Step 4: Eq. 12 once per touched cell, and the RCU merge of the hits. Blocks are split over
-// threads, each block owned by one; the shared statistics pool is only read and updated in
-// place, and slots are freed and taken once the threads are done.
+// threads, each block (with its statistics) owned by one.
 void ScanUpdater::applyToMap() {
   const size_t tables = s_.counts_used;
   // A cell with hits in this scan takes the hit update only (Eq. 12, N_p > 0).
@@ -355,8 +370,6 @@ void ScanUpdater::applyToMap() {
   auto collect = [&](size_t threads) {
     for (size_t t = 0; t < threads; ++t) {
       ScanScratch::ApplyPart& part = s_.apply_parts[t];
-      for (uint32_t slot : part.freed_slots) map_.stats_.remove(slot);
-      part.freed_slots.clear();
       report_.cells_touched += part.touched;
       report_.cells_created += part.created;
       report_.gaussians_gained += part.gaussians_gained;
@@ -372,11 +385,10 @@ void ScanUpdater::applyToMap() {
   });
   collect(apply_threads_);
   runParallel(hit_threads_, [&](size_t t) {
-    applyHits(s_.hit_part_starts[t], s_.hit_part_starts[t + 1], s_.apply_parts[t], s_.new_stats[t]);
+    for (size_t k = s_.hit_part_starts[t]; k < s_.hit_part_starts[t + 1]; ++k)
+      applyHits(s_.hit_blocks[k], s_.apply_parts[t]);
   });
   collect(hit_threads_);
-  for (size_t t = 0; t < hit_threads_; ++t)
-    for (const ScanScratch::NewStats& n : s_.new_stats[t]) *n.slot = map_.stats_.add(n.stats);
   runParallel(tables, [&](size_t t) { s_.counts[t].reset(); });  // their blocks are zero again
 }
 
@@ -387,7 +399,6 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
   const double hi = map_.options().occupancy.logodds_max;
   const double miss = map_.options().occupancy.missLogOdds();
   const size_t others = s_.counts_used - 1;
-  const auto& pool = map_.stats_.items;
   ScanCounts& merged = s_.counts[0];
   for (size_t b = begin; b < end; ++b) {
     CountBlock& counts = merged.block(b);
@@ -402,19 +413,17 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
       uint32_t any = 0;  // tracking touched groups in the DDA would cost more than this test
       for (int k = 0; k < kCountGroup; ++k) any |= counts.count[g + k];
       if (any == 0) continue;
+      // The group's has_stats word, loaded once: testing it is as cheap as a per-cell slot.
+      static_assert(64 % kCountGroup == 0, "a group's bits lie in one word");
+      const uint64_t has = block.has_stats[g >> 6];
       for (int i = g; i < g + kCountGroup; ++i) {
         const uint32_t n = counts.count[i];
         if (n == 0) continue;
         ++part.touched;
-        uint32_t& slot = block.stats[i];
-        if (slot != NdtMap::kNoStats) {
+        if ((has >> (i & 63)) & 1) {
           const float logodds = map_.clampLogOdds(double(block.logodds[i]) + double(n) * miss);
           block.logodds[i] = logodds;
-          if (logodds <= 0.f) {  // observed empty: the Gaussian goes
-            part.gaussians_lost += pool[slot].hasGaussian();
-            part.freed_slots.push_back(slot);
-            slot = NdtMap::kNoStats;
-          }
+          if (logodds <= 0.f) part.gaussians_lost += block.eraseStats(i);  // observed empty
           continue;
         }
         if (!block.known[i]) {
@@ -429,49 +438,71 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
   }
 }
 
-// Eq. 12 with N_p > 0 and the RCU merge (Eq. 2, 11) for the hit groups [first, last).
-void ScanUpdater::applyHits(size_t first, size_t last, ScanScratch::ApplyPart& part,
-                            std::vector<ScanScratch::NewStats>& new_stats) {
+// Eq. 12 with N_p > 0 and the RCU merge (Eq. 2, 11) for one block's hit groups, in offset
+// order. The block's statistics are walked in step: updated in place or, if the block gains
+// some, moved with the new ones into the array allocateForApply made.
+void ScanUpdater::applyHits(ScanScratch::HitBlock& hb, ScanScratch::ApplyPart& part) {
   const double hit = map_.options().occupancy.hitLogOdds();
   const bool occupancy = map_.options().occupancy.enabled;
-  auto& pool = map_.stats_.items;
-  const ScanCounts& merged = s_.counts[0];
-  CellIndex current{};
-  NdtMap::Block* block = nullptr;
-  for (size_t group = first; group < last; ++group) {
+  NdtMap::Block& block = *hb.block;
+  std::vector<CellStats>* grown = hb.grown.capacity() > 0 ? &hb.grown : nullptr;
+  const NdtMap::Block::Mask had = block.has_stats;
+  size_t src = 0;          // position in block.stats of the next cell in `had`
+  int word = 0;            // that cell is in had[word], among
+  uint64_t bits = had[0];  // the bits not passed yet
+  // Passes the cells with statistics before offset `end`, moving them if the block grows.
+  auto passTo = [&](int end) {
+    for (;;) {
+      while (bits == 0 && word + 1 < NdtMap::Block::kWords) bits = had[++word];
+      if (bits == 0 || word * 64 + __builtin_ctzll(bits) >= end) return;
+      if (grown) grown->push_back(std::move(block.stats[src]));
+      ++src;
+      bits &= bits - 1;
+    }
+  };
+  for (size_t group = hb.first_group; group < hb.last_group; ++group) {
     const EndGroup& g = s_.groups[group];
     if (!g.hit) continue;
-    const CellIndex b = blockOf(g.cell);
-    if (!block || b != current) {
-      block = s_.map_blocks[size_t(merged.indexOf(b))];
-      current = b;
-    }
     const int i = offsetInBlock(g.cell);
     ++part.touched;
-    if (!block->known[i]) {
-      block->known.set(i);
-      block->logodds[i] = 0.f;
+    if (!block.known[i]) {
+      block.known.set(i);
+      block.logodds[i] = 0.f;
       ++part.created;
     }
-    const float logodds = map_.clampLogOdds(double(block->logodds[i]) + double(g.count) * hit);
-    block->logodds[i] = logodds;
-    uint32_t& slot = block->stats[i];
-    const bool had_gaussian = slot != NdtMap::kNoStats && pool[slot].hasGaussian();
-    bool has_gaussian = false;
-    if (occupancy && logodds <= 0.f) {
-      // Still observed empty: no Gaussian; later hits start a new one.
-      if (slot != NdtMap::kNoStats) part.freed_slots.push_back(slot);
-      slot = NdtMap::kNoStats;
-    } else if (slot != NdtMap::kNoStats) {
-      pool[slot].merge(groupStats(g));
-      has_gaussian = pool[slot].hasGaussian();
-    } else {
-      new_stats.push_back({&slot, groupStats(g)});
-      has_gaussian = new_stats.back().stats.hasGaussian();
+    const float logodds = map_.clampLogOdds(double(block.logodds[i]) + double(g.count) * hit);
+    block.logodds[i] = logodds;
+    // Still observed empty: no Gaussian; later hits start a new one.
+    const bool empty = occupancy && logodds <= 0.f;
+    const uint64_t bit = uint64_t(1) << (i & 63);
+    passTo(i);
+    if (!(had[i >> 6] & bit)) {
+      if (empty) continue;
+      grown->push_back(groupStats(g));  // allocateForApply counted this cell
+      block.has_stats[i >> 6] |= bit;
+      part.gaussians_gained += grown->back().hasGaussian();
+      continue;
     }
-    part.gaussians_gained += !had_gaussian && has_gaussian;
-    part.gaussians_lost += had_gaussian && !has_gaussian;
+    bits &= bits - 1;  // passTo stopped at cell i
+    if (empty) {       // only setCell leaves statistics in an empty cell
+      if (grown) {
+        part.gaussians_lost += block.stats[src++].hasGaussian();
+        block.has_stats[i >> 6] &= ~bit;
+      } else {
+        part.gaussians_lost += block.eraseStats(i);  // the next ones move down to src
+      }
+      continue;
+    }
+    CellStats& stats = block.stats[src++];
+    const bool had_gaussian = stats.hasGaussian();
+    stats.merge(groupStats(g));
+    part.gaussians_gained += !had_gaussian && stats.hasGaussian();
+    if (grown) grown->push_back(std::move(stats));
   }
+  if (!grown) return;
+  passTo(kBlockCells);
+  block.stats.swap(*grown);
+  std::vector<CellStats>().swap(*grown);  // frees the old array
 }
 
 }  // namespace ndtom

@@ -45,20 +45,22 @@ struct ScanScratch {
   std::vector<CountBlock*> other_counts;  ///< [block * (counts_used-1) + t-1], or nullptr
   std::vector<NdtMap::Block*> map_blocks;  ///< the map's block of each counts[0] block
   std::vector<CellIndex> created_blocks;   ///< map blocks this scan created, for a rollback
-  /// What one thread of the free-space update did.
+  /// What one thread of the map update did.
   struct ApplyPart {
     size_t touched = 0, created = 0, gaussians_gained = 0, gaussians_lost = 0;
-    std::vector<uint32_t> freed_slots;  ///< statistics to free once the threads are done
   };
   std::vector<ApplyPart> apply_parts;
-  /// Hit cells that need a new statistics slot, per applying thread: slots are taken from
-  /// the shared pool once the threads are done.
-  struct NewStats {
-    uint32_t* slot;
-    CellStats stats;
+  /// A map block with hits in this scan: the unit of the hit update, owned by one thread.
+  struct HitBlock {
+    size_t first_group, last_group;  ///< from its first hit group to its last (in `groups`)
+    NdtMap::Block* block;            ///< set by allocateForApply
+    NdtMap::Block::Mask hits;        ///< its hit cells
+    /// If its cells may gain statistics: an empty array with room for all the block will
+    /// have, made before the map changes; its statistics move there. Else no capacity.
+    std::vector<CellStats> grown;
   };
-  std::vector<std::vector<NewStats>> new_stats;
-  std::vector<size_t> hit_part_starts;  ///< group ranges of the hit threads, split at blocks
+  std::vector<HitBlock> hit_blocks;
+  std::vector<size_t> hit_part_starts;  ///< hit_blocks ranges of the hit threads
 };
 
 class ScanUpdater {
@@ -77,8 +79,7 @@ class ScanUpdater {
   PointKind classifyPoint(const Eigen::Vector3d& p, Eigen::Vector3d& end,
                           InsertionReport& report) const;
   void applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPart& part);
-  void applyHits(size_t first_group, size_t last_group, ScanScratch::ApplyPart& part,
-                 std::vector<ScanScratch::NewStats>& new_stats);
+  void applyHits(ScanScratch::HitBlock& hit_block, ScanScratch::ApplyPart& part);
   CellStats groupStats(const EndGroup& g) const;
   size_t threadsFor(size_t items, size_t min_items_per_thread) const;
 

@@ -98,27 +98,30 @@ class NdtMap {
   void setCell(const CellIndex& index, float logodds, const CellStats& stats);
 
  private:
-  static constexpr uint32_t kNoStats = UINT32_MAX;
-
+  /// A block's cells, with the statistics of the few that have some packed in offset order:
+  /// most known cells are free space, so a per-cell slot would cost more than the cells.
   struct Block {
-    std::array<float, kBlockCells> logodds;
-    std::array<uint32_t, kBlockCells> stats;  ///< index into stats_, or kNoStats
-    std::bitset<kBlockCells> known;
-    Block() {
-      logodds.fill(0.f);
-      stats.fill(kNoStats);
-    }
-  };
+    static constexpr int kWords = kBlockCells / 64;
+    using Mask = std::array<uint64_t, kWords>;
 
-  /// Pool of statistics with reuse of freed slots.
-  struct StatsPool {
-    std::vector<CellStats> items;
-    std::vector<uint32_t> free_slots;
-    uint32_t add(const CellStats& s);
-    void remove(uint32_t slot) { free_slots.push_back(slot); }
-    /// Room for `extra` add() calls and any number of remove() calls without allocating.
-    void reserve(size_t extra);
-    size_t size() const { return items.size() - free_slots.size(); }
+    std::array<float, kBlockCells> logodds;
+    std::bitset<kBlockCells> known;
+    Mask has_stats{};              ///< bit i: cell i has statistics
+    std::vector<CellStats> stats;  ///< of the cells in has_stats, in offset order
+
+    Block() { logodds.fill(0.f); }
+    bool hasStats(int i) const { return (has_stats[i >> 6] >> (i & 63)) & 1; }
+    /// Position of cell i's statistics in `stats`: how many cells before it have some.
+    size_t statsPos(int i) const {
+      size_t pos = 0;
+      for (int w = 0; w < (i >> 6); ++w) pos += size_t(__builtin_popcountll(has_stats[w]));
+      const uint64_t below = (uint64_t(1) << (i & 63)) - 1;
+      return pos + size_t(__builtin_popcountll(has_stats[i >> 6] & below));
+    }
+    const CellStats* statsOf(int i) const { return hasStats(i) ? &stats[statsPos(i)] : nullptr; }
+    /// Drops cell i's statistics (it has some); never allocates. Returns whether they were a
+    /// Gaussian.
+    bool eraseStats(int i);
   };
 
   /// Insertion's reusable buffers: owned, never copied, not part of the map's value.
@@ -147,7 +150,6 @@ class NdtMap {
   MapOptions options_;
   GridGeometry geometry_;
   BlockGrid<Block> grid_;
-  StatsPool stats_;
   size_t num_cells_ = 0;
   Scratch scratch_;
 };
@@ -157,11 +159,10 @@ class NdtMap {
 template <class F>
 void NdtMap::forEachCellOfBlock(const CellIndex& block_index, const Block& block, F& f) const {
   if (block.known.none()) return;
+  const CellStats* next = block.stats.data();  // cells with statistics come in offset order
   for (int i = 0; i < kBlockCells; ++i) {
     if (!block.known[i]) continue;
-    const uint32_t slot = block.stats[i];
-    f(CellView{cellOf(block_index, i), block.logodds[i],
-               slot == kNoStats ? nullptr : &stats_.items[slot]});
+    f(CellView{cellOf(block_index, i), block.logodds[i], block.hasStats(i) ? next++ : nullptr});
   }
 }
 
