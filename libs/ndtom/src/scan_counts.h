@@ -26,7 +26,7 @@ struct CountBlock {
   void zero() { std::memset(count.data(), 0, sizeof(count)); }
 };
 
-class ScanCounts {
+class alignas(64) ScanCounts {  // one per thread: no shared cache line
  public:
   ScanCounts() { rehash(1024); }
 

@@ -89,7 +89,7 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
   s_.kinds.resize(n);
   s_.ends.resize(n);
   s_.end_cells.resize(n);
-  struct Part {
+  struct alignas(64) Part {  // own cache line: threads update theirs per point
     InsertionReport report;
     CellIndex lo{kMaxCellIndex, kMaxCellIndex, kMaxCellIndex};
     CellIndex hi{-kMaxCellIndex, -kMaxCellIndex, -kMaxCellIndex};
@@ -104,6 +104,7 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
     Part& part = parts[t];
     const auto [begin, end] = partRange(n, threads, t);
     size_t hits = 0;
+    CellIndex lo = part.lo, hi = part.hi;  // in registers, not stored per point
     for (size_t i = begin; i < end; ++i) {
       const Eigen::Vector3d& p = points[i];
       const Eigen::Vector3d scaled = p * inv_resolution;
@@ -121,8 +122,9 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
         if (s_.kinds[i] == PointKind::kRejected) continue;
         s_.end_cells[i] = geometry.cellOf(s_.ends[i]);
       }
-      widen(part.lo, part.hi, s_.end_cells[i]);
+      widen(lo, hi, s_.end_cells[i]);
     }
+    part.lo = lo, part.hi = hi;
     part.report.hits += hits;
   });
   ends_lo_ = parts[0].lo;
@@ -200,7 +202,7 @@ void ScanUpdater::groupEndsByCell() {
   std::vector<size_t> hits(threads, 0);
   runParallel(threads, [&](size_t t) {
     const GridGeometry& geometry = map_.geometry();
-    size_t group = runs[t];
+    size_t group = runs[t], hit_count = 0;
     for (size_t i = starts[t]; i < starts[t + 1]; ++group) {
       EndGroup& g = s_.groups[group];
       const uint64_t key = s_.ray_ends[i].key;
@@ -208,7 +210,7 @@ void ScanUpdater::groupEndsByCell() {
       while (i < starts[t + 1] && s_.ray_ends[i].key == key) ++i;
       g.count = uint32_t(i - g.begin);
       g.hit = (key & 1) != 0;
-      hits[t] += g.hit;
+      hit_count += g.hit;
       // The cell again from the sorted end (read in a row), not end_cells (a random access).
       g.cell = geometry.cellOf(s_.sorted_ends[g.begin]);
       g.mean = g.mean_end = Eigen::Vector3d::Zero();
@@ -219,6 +221,7 @@ void ScanUpdater::groupEndsByCell() {
       g.mean /= double(g.count);
       g.mean_end = centre + g.mean;
     }
+    hits[t] = hit_count;
   });
   for (size_t n : hits) report_.cells_hit += n;
 

@@ -45,8 +45,8 @@ struct ScanScratch {
   std::vector<CountBlock*> other_counts;  ///< [block * (counts_used-1) + t-1], or nullptr
   std::vector<NdtMap::Block*> map_blocks;  ///< the map's block of each counts[0] block
   std::vector<CellIndex> created_blocks;   ///< map blocks this scan created, for a rollback
-  /// What one thread of the map update did.
-  struct ApplyPart {
+  /// What one thread of the map update did; a cache line each, as threads count per cell.
+  struct alignas(64) ApplyPart {
     size_t touched = 0, created = 0, gaussians_gained = 0, gaussians_lost = 0;
   };
   std::vector<ApplyPart> apply_parts;
