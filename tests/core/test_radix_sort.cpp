@@ -26,23 +26,25 @@ std::vector<Item> randomItems(size_t n, int key_bits, uint64_t distinct, unsigne
 }
 
 TEST(RadixSort, MatchesStableSortForAnyThreadCountAndKeyWidth) {
+  ndtom::WorkerPool pool;
   for (const int key_bits : {1, 9, 13, 14, 26, 40})
     for (const size_t threads : {1, 2, 3, 7}) {
       std::vector<Item> items = randomItems(20000, key_bits, 3000, unsigned(key_bits)), buffer;
       std::vector<Item> expected = items;
       std::stable_sort(expected.begin(), expected.end(),
                        [](const Item& a, const Item& b) { return a.key < b.key; });
-      ndtom::radixSortByKey(items, buffer, key_bits, threads);
+      ndtom::radixSortByKey(items, buffer, key_bits, pool, threads);
       EXPECT_EQ(items, expected) << key_bits << " key bits, " << threads << " threads";
     }
 }
 
 TEST(RadixSort, FewerItemsThanThreadsAndEmptyInput) {
+  ndtom::WorkerPool pool;
   std::vector<Item> items{{5, 0}, {1, 1}, {5, 2}}, buffer;
-  ndtom::radixSortByKey(items, buffer, 3, 8);
+  ndtom::radixSortByKey(items, buffer, 3, pool, 8);
   EXPECT_EQ(items, (std::vector<Item>{{1, 1}, {5, 0}, {5, 2}}));
   items.clear();
-  ndtom::radixSortByKey(items, buffer, 3, 2);
+  ndtom::radixSortByKey(items, buffer, 3, pool, 2);
   EXPECT_TRUE(items.empty());
 }
 

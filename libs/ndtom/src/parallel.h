@@ -1,56 +1,121 @@
 // Fork-join over a few threads for the stages of a scan update: private to the library.
 #pragma once
 
+#include <algorithm>
+#include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <exception>
+#include <mutex>
 #include <thread>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace ndtom {
 
-/// Runs task(t) for t = 0 .. threads-1, task(0) on the calling thread, and returns when all
-/// are done, rethrowing the first exception. A worker that cannot be started (no threads or
-/// memory left) has its share run by the caller, so the result never depends on it.
-template <class Task>
-void runParallel(size_t threads, Task&& task) {
-  if (threads <= 1) {
-    task(size_t(0));
-    return;
+/// Threads kept from stage to stage and scan to scan: a scan has a dozen parallel stages, and
+/// starting a thread costs about as much as a small stage (~50 µs).
+class WorkerPool {
+ public:
+  WorkerPool() = default;
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+  ~WorkerPool() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& w : workers_) w.join();
   }
-  std::vector<std::exception_ptr> errors;
-  std::vector<std::thread> workers;
-  std::vector<size_t> not_started;
-  try {
-    errors.resize(threads);
-    workers.reserve(threads - 1);
-    not_started.reserve(threads - 1);
-  } catch (...) {
-    for (size_t t = 0; t < threads; ++t) task(t);
-    return;
-  }
-  for (size_t t = 1; t < threads; ++t) {
+
+  /// Runs task(t) for t = 0 .. threads-1, task(0) on the calling thread, and returns when all
+  /// are done, rethrowing the first exception. Workers start on first need and stay; a worker
+  /// that cannot be started (no threads or memory left) has its share run by the caller, so
+  /// the result never depends on it.
+  template <class Task>
+  void run(size_t threads, Task&& task) {
+    if (threads <= 1) {
+      task(size_t(0));
+      return;
+    }
+    while (workers_.size() < threads - 1) {
+      try {
+        // It starts having seen the rounds so far: the next one is its first.
+        workers_.emplace_back([this, t = workers_.size() + 1, seen = round_] { work(t, seen); });
+      } catch (...) {
+        break;
+      }
+    }
+    const size_t helpers = std::min(workers_.size(), threads - 1);
+    std::vector<std::exception_ptr> errors;
     try {
-      workers.emplace_back([&, t] {
-        try {
-          task(t);
-        } catch (...) {
-          errors[t] = std::current_exception();
-        }
-      });
+      errors.resize(threads);
     } catch (...) {
-      not_started.push_back(t);
+      for (size_t t = 0; t < threads; ++t) task(t);
+      return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      invoke_ = [](void* context, size_t t) {
+        (*static_cast<std::remove_reference_t<Task>*>(context))(t);
+      };
+      context_ = &task;
+      errors_ = &errors;
+      helpers_ = pending_ = helpers;
+      ++round_;
+    }
+    wake_.notify_all();
+    for (size_t t = 0; t < threads; ++t) {
+      if (t >= 1 && t <= helpers) continue;  // a worker's
+      try {
+        task(t);
+      } catch (...) {
+        errors[t] = std::current_exception();
+      }
+    }
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      done_.wait(lock, [&] { return pending_ == 0; });
+    }
+    for (const std::exception_ptr& e : errors)
+      if (e) std::rethrow_exception(e);
+  }
+
+ private:
+  void work(size_t t, uint64_t seen) {
+    for (;;) {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [&] { return stop_ || round_ != seen; });
+      if (stop_) return;
+      seen = round_;
+      if (t > helpers_) continue;  // not needed this round
+      void (*invoke)(void*, size_t) = invoke_;
+      void* context = context_;
+      std::vector<std::exception_ptr>* errors = errors_;
+      lock.unlock();
+      try {
+        invoke(context, t);
+      } catch (...) {
+        (*errors)[t] = std::current_exception();  // this thread's slot only
+      }
+      lock.lock();
+      if (--pending_ == 0) done_.notify_one();
     }
   }
-  try {
-    task(size_t(0));
-    for (size_t t : not_started) task(t);
-  } catch (...) {
-    errors[0] = std::current_exception();
-  }
-  for (std::thread& w : workers) w.join();
-  for (const std::exception_ptr& e : errors)
-    if (e) std::rethrow_exception(e);
-}
+
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  std::vector<std::thread> workers_;  ///< workers_[i] runs task i + 1
+  void (*invoke_)(void*, size_t) = nullptr;
+  void* context_ = nullptr;
+  std::vector<std::exception_ptr>* errors_ = nullptr;
+  size_t helpers_ = 0;  ///< workers taking part in this round: tasks 1 .. helpers_
+  size_t pending_ = 0;  ///< of them, still running
+  uint64_t round_ = 0;
+  bool stop_ = false;
+};
 
 /// [begin, end) of part `t` of `n` items split in `parts` near-equal contiguous ranges.
 inline std::pair<size_t, size_t> partRange(size_t n, size_t parts, size_t t) {

@@ -11,11 +11,11 @@
 namespace ndtom {
 
 /// Stable sort of `items` (anything with a uint64_t `key`) using `buffer` as scratch, on up to
-/// `threads` threads: each counts and places a contiguous part, its items going after those of
-/// the parts before it in every bucket, so the order does not depend on `threads`.
+/// `threads` threads of `pool`: each counts and places a contiguous part, its items going after
+/// those of the parts before it in every bucket, so the order does not depend on `threads`.
 template <class T>
-void radixSortByKey(std::vector<T>& items, std::vector<T>& buffer, int key_bits,
-                    size_t threads = 1) {
+void radixSortByKey(std::vector<T>& items, std::vector<T>& buffer, int key_bits, WorkerPool& pool,
+                    size_t threads) {
   // As few passes as digits of at most 13 bits allow (64 KiB of counters per thread, in L2).
   constexpr int kMaxDigitBits = 13;
   const int passes = std::max(1, (key_bits + kMaxDigitBits - 1) / kMaxDigitBits);
@@ -26,7 +26,7 @@ void radixSortByKey(std::vector<T>& items, std::vector<T>& buffer, int key_bits,
   buffer.resize(n);
   std::vector<size_t> start(threads * buckets);  // [thread * buckets + digit]
   for (int shift = 0; shift < key_bits; shift += digit_bits) {
-    runParallel(threads, [&](size_t t) {
+    pool.run(threads, [&](size_t t) {
       size_t* count = &start[t * buckets];
       std::fill(count, count + buckets, size_t(0));
       const auto [begin, end] = partRange(n, threads, t);
@@ -39,7 +39,7 @@ void radixSortByKey(std::vector<T>& items, std::vector<T>& buffer, int key_bits,
         start[t * buckets + digit] = sum;
         sum += count;
       }
-    runParallel(threads, [&](size_t t) {
+    pool.run(threads, [&](size_t t) {
       size_t* next = &start[t * buckets];
       const auto [begin, end] = partRange(n, threads, t);
       for (size_t i = begin; i < end; ++i) buffer[next[(items[i].key >> shift) & mask]++] = items[i];

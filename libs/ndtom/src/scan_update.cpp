@@ -100,7 +100,7 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
   const double inv_resolution = geometry.invResolution();
   const double min_range = options_.min_range, max_range = options_.max_range;
   const double far_limit = kMaxRayCells * geometry.resolution();
-  runParallel(threads, [&](size_t t) {
+  s_.pool.run(threads, [&](size_t t) {
     Part& part = parts[t];
     const auto [begin, end] = partRange(n, threads, t);
     size_t hits = 0;
@@ -155,7 +155,7 @@ void ScanUpdater::groupEndsByCell() {
   const uint64_t nx = uint64_t(hi.x - lo.x) + 1, ny = uint64_t(hi.y - lo.y) + 1;
   const uint64_t nz = uint64_t(hi.z - lo.z) + 1;
   s_.ray_ends.resize(used);
-  runParallel(classify_threads_, [&](size_t t) {  // the chunks of classifyPoints
+  s_.pool.run(classify_threads_, [&](size_t t) {  // the chunks of classifyPoints
     const auto [begin, end] = partRange(s_.kinds.size(), classify_threads_, t);
     size_t k = s_.part_offsets[t];
     for (size_t i = begin; i < end; ++i) {
@@ -170,7 +170,7 @@ void ScanUpdater::groupEndsByCell() {
   });
   int key_bits = 1;
   while (key_bits < 64 && (uint64_t(1) << key_bits) < 2 * kBlockCells * nx * ny * nz) ++key_bits;
-  radixSortByKey(s_.ray_ends, s_.sort_buffer, key_bits, threadsFor(used, kMinPointsPerThread));
+  radixSortByKey(s_.ray_ends, s_.sort_buffer, key_bits, s_.pool, threadsFor(used, kMinPointsPerThread));
   // Groups are runs of equal keys. Threads split the sorted ends at run boundaries; each
   // gathers its ends (independent loads, instead of a dependent walk per group later) and
   // counts its runs, then fills its part of the group list.
@@ -184,7 +184,7 @@ void ScanUpdater::groupEndsByCell() {
       ++start;
     starts[t] = start;
   }
-  runParallel(threads, [&](size_t t) {
+  s_.pool.run(threads, [&](size_t t) {
     constexpr size_t kAhead = 16;  // the loads are random: start them early
     const size_t begin = starts[t], end = starts[t + 1];
     for (size_t i = begin; i < end; ++i) {
@@ -200,7 +200,7 @@ void ScanUpdater::groupEndsByCell() {
   s_.groups.resize(runs[threads]);
   group_means_ready_ = options_.ray_mode == RayMode::PerHitCell && map_.options().occupancy.enabled;
   std::vector<size_t> hits(threads, 0);
-  runParallel(threads, [&](size_t t) {
+  s_.pool.run(threads, [&](size_t t) {
     const GridGeometry& geometry = map_.geometry();
     size_t group = runs[t], hit_count = 0;
     for (size_t i = starts[t]; i < starts[t + 1]; ++group) {
@@ -280,7 +280,7 @@ void ScanUpdater::traceFreeRays() {
   // Equal contiguous shares, not chunks taken as threads go: the tables' blocks then come in
   // the order one thread would meet them, and the map's blocks are created in that order
   // whatever the thread count (iteration order, hence e.g. coarsened(), depends on it).
-  runParallel(threads, [&](size_t t) {
+  s_.pool.run(threads, [&](size_t t) {
     CountingWalker count(s_.counts[t]);
     if (per_point) {
       const auto [begin, end] = partRange(s_.kinds.size(), threads, t);
@@ -363,7 +363,7 @@ void ScanUpdater::allocateForApply() {
 void ScanUpdater::applyToMap() {
   const size_t tables = s_.counts_used;
   // A cell with hits in this scan takes the hit update only (Eq. 12, N_p > 0).
-  runParallel(tables, [&](size_t t) {
+  s_.pool.run(tables, [&](size_t t) {
     for (const EndGroup& g : s_.groups)
       if (g.hit)
         if (uint32_t* n = s_.counts[t].find(g.cell)) *n = 0;
@@ -382,17 +382,17 @@ void ScanUpdater::applyToMap() {
     }
   };
   const size_t blocks = s_.counts[0].numBlocks();
-  runParallel(apply_threads_, [&](size_t t) {
+  s_.pool.run(apply_threads_, [&](size_t t) {
     const auto [begin, end] = partRange(blocks, apply_threads_, t);
     applyFreeCounts(begin, end, s_.apply_parts[t]);
   });
   collect(apply_threads_);
-  runParallel(hit_threads_, [&](size_t t) {
+  s_.pool.run(hit_threads_, [&](size_t t) {
     for (size_t k = s_.hit_part_starts[t]; k < s_.hit_part_starts[t + 1]; ++k)
       applyHits(s_.hit_blocks[k], s_.apply_parts[t]);
   });
   collect(hit_threads_);
-  runParallel(tables, [&](size_t t) { s_.counts[t].reset(); });  // their blocks are zero again
+  s_.pool.run(tables, [&](size_t t) { s_.counts[t].reset(); });  // their blocks are zero again
 }
 
 // Eq. 12 for the cells that rays crossed without a hit, in counts[0]'s blocks [begin, end):

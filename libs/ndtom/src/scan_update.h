@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "ndtom/ndt_map.h"
+#include "parallel.h"
 #include "scan_counts.h"
 
 namespace ndtom {
@@ -61,6 +62,7 @@ struct ScanScratch {
   };
   std::vector<HitBlock> hit_blocks;
   std::vector<size_t> hit_part_starts;  ///< hit_blocks ranges of the hit threads
+  WorkerPool pool;                      ///< the insertion's threads, kept while the map lives
 };
 
 class ScanUpdater {
