@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <stdexcept>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "ndtom/ray_dda.h"
 #include "parallel.h"
@@ -16,6 +19,23 @@ constexpr size_t kMinPointsPerThread = 8192;
 constexpr size_t kMinRaysPerThread = 256;
 constexpr size_t kMinGroupsPerThread = 2048;
 constexpr size_t kMinBlocksPerThread = 32;
+
+/// Bit k set if count[k] != 0, for the kCountGroup counters at `count`.
+inline uint32_t crossedCells(const uint32_t* count) {
+  static_assert(kCountGroup == 8, "two SSE2 loads per group");
+#if defined(__SSE2__)
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i low = _mm_loadu_si128(reinterpret_cast<const __m128i*>(count));
+  const __m128i high = _mm_loadu_si128(reinterpret_cast<const __m128i*>(count + 4));
+  const int zero_low = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(low, zero)));
+  const int zero_high = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(high, zero)));
+  return ~uint32_t(zero_low | zero_high << 4) & 0xffu;
+#else
+  uint32_t crossed = 0;
+  for (int k = 0; k < kCountGroup; ++k) crossed |= uint32_t(count[k] != 0) << k;
+  return crossed;
+#endif
+}
 
 inline void widen(CellIndex& lo, CellIndex& hi, const CellIndex& c) {
   lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
@@ -413,15 +433,16 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
     }
     NdtMap::Block& block = *s_.map_blocks[b];
     for (int g = 0; g < kBlockCells; g += kCountGroup) {
-      uint32_t any = 0;  // tracking touched groups in the DDA would cost more than this test
-      for (int k = 0; k < kCountGroup; ++k) any |= counts.count[g + k];
-      if (any == 0) continue;
+      // Visit only the crossed cells (a test per cell would be a coin-flip branch); tracking
+      // touched groups in the DDA would cost more than finding them here.
+      uint32_t crossed = crossedCells(&counts.count[size_t(g)]);
+      if (crossed == 0) continue;
       // The group's has_stats word, loaded once: testing it is as cheap as a per-cell slot.
       static_assert(64 % kCountGroup == 0, "a group's bits lie in one word");
       const uint64_t has = block.has_stats[g >> 6];
-      for (int i = g; i < g + kCountGroup; ++i) {
+      for (; crossed != 0; crossed &= crossed - 1) {
+        const int i = g + __builtin_ctz(crossed);
         const uint32_t n = counts.count[i];
-        if (n == 0) continue;
         ++part.touched;
         if ((has >> (i & 63)) & 1) {
           const float logodds = map_.clampLogOdds(double(block.logodds[i]) + double(n) * miss);
