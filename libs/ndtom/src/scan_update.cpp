@@ -297,22 +297,43 @@ void ScanUpdater::traceFreeRays() {
 
   const GridGeometry& geometry = map_.geometry();
   std::vector<size_t> visits(threads, 0);
-  // Equal contiguous shares, not chunks taken as threads go: the tables' blocks then come in
-  // the order one thread would meet them, and the map's blocks are created in that order
-  // whatever the thread count (iteration order, hence e.g. coarsened(), depends on it).
+  // Contiguous ranges in ray order, not chunks taken as threads go: the tables then meet
+  // their blocks in the order one thread would, and the map's blocks are created in that
+  // order whatever the thread count (iteration order, hence e.g. coarsened(), depends on it).
+  // The ranges hold near-equal total ray lengths (what a walk costs), so no thread waits long.
+  const size_t items = per_point ? s_.kinds.size() : s_.groups.size();
+  auto rayEnd = [&](size_t i) -> const Eigen::Vector3d* {
+    if (!per_point) return &s_.groups[i].mean_end;
+    return s_.kinds[i] == PointKind::kRejected ? nullptr : &s_.ends[i];
+  };
+  std::vector<size_t> bounds(threads + 1, items);
+  bounds[0] = 0;
+  if (threads > 1) {
+    constexpr size_t kPieces = 64;  // the split's granularity
+    std::vector<double> cost(kPieces + 1, 0.0);
+    s_.pool.run(threads, [&](size_t t) {
+      const auto [first, last] = partRange(kPieces, threads, t);
+      for (size_t piece = first; piece < last; ++piece) {
+        const auto [begin, end] = partRange(items, kPieces, piece);
+        double sum = 0;
+        for (size_t i = begin; i < end; ++i)
+          if (const Eigen::Vector3d* e = rayEnd(i)) sum += (*e - origin_).lpNorm<1>();
+        cost[piece + 1] = sum;
+      }
+    });
+    for (size_t piece = 0; piece < kPieces; ++piece) cost[piece + 1] += cost[piece];
+    for (size_t t = 1, piece = 0; t < threads; ++t) {
+      while (piece < kPieces && cost[piece] < cost[kPieces] * double(t) / double(threads)) ++piece;
+      bounds[t] = partRange(items, kPieces, piece).first;
+    }
+  }
   s_.pool.run(threads, [&](size_t t) {
     CountingWalker count(s_.counts[t]);
-    if (per_point) {
-      const auto [begin, end] = partRange(s_.kinds.size(), threads, t);
-      for (size_t i = begin; i < end; ++i)
-        if (s_.kinds[i] != PointKind::kRejected)
-          count = walkRay(geometry, origin_, s_.ends[i], count);
-    } else {
-      const auto [begin, end] = partRange(s_.groups.size(), threads, t);
-      for (size_t i = begin; i < end; ++i) {
-        count.setWeight(s_.groups[i].count);
-        count = walkRay(geometry, origin_, s_.groups[i].mean_end, count);
-      }
+    for (size_t i = bounds[t]; i < bounds[t + 1]; ++i) {
+      const Eigen::Vector3d* end = rayEnd(i);
+      if (!end) continue;
+      if (!per_point) count.setWeight(s_.groups[i].count);
+      count = walkRay(geometry, origin_, *end, count);
     }
     visits[t] = count.visits();
   });
