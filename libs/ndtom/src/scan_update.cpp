@@ -1,6 +1,7 @@
 #include "scan_update.h"
 
 #include <algorithm>
+#include <atomic>
 #include <stdexcept>
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -422,10 +423,17 @@ void ScanUpdater::applyToMap() {
       part.touched = part.created = part.gaussians_gained = part.gaussians_lost = 0;
     }
   };
+  // Blocks differ in work, and each block's update stands alone: threads take small runs of
+  // blocks as they go.
   const size_t blocks = s_.counts[0].numBlocks();
+  constexpr size_t kBlocksPerTake = 16;
+  std::atomic<size_t> next_block{0};
   s_.pool.run(apply_threads_, [&](size_t t) {
-    const auto [begin, end] = partRange(blocks, apply_threads_, t);
-    applyFreeCounts(begin, end, s_.apply_parts[t]);
+    for (;;) {
+      const size_t begin = next_block.fetch_add(kBlocksPerTake, std::memory_order_relaxed);
+      if (begin >= blocks) break;
+      applyFreeCounts(begin, std::min(blocks, begin + kBlocksPerTake), s_.apply_parts[t]);
+    }
   });
   collect(apply_threads_);
   s_.pool.run(hit_threads_, [&](size_t t) {
