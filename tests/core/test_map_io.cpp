@@ -90,6 +90,32 @@ TEST(MapIo, SaveLoadRoundTripIsExact) {
   std::remove(path.c_str());
 }
 
+// setCell grows a block's statistics one cell at a time; a loaded map keeps no spare room
+// (shrinking it again frees nothing), while the same cells set by hand leave some.
+TEST(MapIo, LoadedMapKeepsNoSpareStatisticsRoom) {
+  const NdtMap map = sampleMap();
+  NdtMap by_hand(map.options());
+  map.forEachCell([&](const ndtom::CellView& c) {
+    by_hand.setCell(c.index, c.logodds, c.stats ? *c.stats : ndtom::CellStats{});
+  });
+  const size_t grown = by_hand.memoryBytes();
+  by_hand.shrinkToFit();
+  ASSERT_LT(by_hand.memoryBytes(), grown);  // the check below can see spare room
+
+  // Not through a copy: copying a map drops spare room by itself.
+  auto expectNoSpareRoom = [](NdtMap&& m, const char* what) {
+    const size_t bytes = m.memoryBytes();
+    m.shrinkToFit();
+    EXPECT_EQ(m.memoryBytes(), bytes) << what;
+  };
+  const std::vector<uint8_t> file = ndtom::encodeMap(map);
+  expectNoSpareRoom(ndtom::decodeMap(file.data(), file.size()), "loaded");
+  expectNoSpareRoom(map.coarsened(2), "coarsened");
+  NdtMap merged(map.options());
+  merged.merge(map);
+  expectNoSpareRoom(std::move(merged), "merged");
+}
+
 TEST(MapIo, EmptyMapRoundTrips) {
   const NdtMap empty;
   const auto bytes = ndtom::encodeMap(empty);

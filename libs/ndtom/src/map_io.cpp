@@ -262,6 +262,7 @@ NdtMap decodeMap(const uint8_t* data, size_t size, const std::string& source) {
     map.setCell(index, logodds, stats);
   }
   if (in.remaining() != 4) in.fail("unexpected bytes after the cells");
+  map.shrinkToFit();
   return map;
 }
 

@@ -126,6 +126,10 @@ void NdtMap::setCell(const CellIndex& index, float logodds, const CellStats& sta
   }
 }
 
+void NdtMap::shrinkToFit() {
+  for (auto& [index, block] : grid_.blocks()) block->stats.shrink_to_fit();
+}
+
 void NdtMap::merge(const NdtMap& other) {
   if (other.options_.resolution != options_.resolution)
     throw std::invalid_argument("merge: maps have different resolutions");
@@ -145,6 +149,7 @@ void NdtMap::merge(const NdtMap& other) {
         float(std::clamp(logodds, options_.occupancy.logodds_min, options_.occupancy.logodds_max)),
         stats);
   });
+  shrinkToFit();
 }
 
 NdtMap NdtMap::coarsened(int factor) const {
@@ -168,6 +173,7 @@ NdtMap NdtMap::coarsened(int factor) const {
     }
     coarse.setCell(index, logodds, stats);
   });
+  coarse.shrinkToFit();
   return coarse;
 }
 

@@ -96,6 +96,9 @@ class NdtMap {
   /// Sets one cell as given (used by loaders). The statistics' mean is cell-centred. Throws
   /// std::invalid_argument for an index outside the supported range.
   void setCell(const CellIndex& index, float logodds, const CellStats& stats);
+  /// Frees the spare room setCell() leaves in the blocks' statistics arrays (they grow one
+  /// cell at a time); loaders and the map algebra call it when done.
+  void shrinkToFit();
 
  private:
   /// A block's cells, with the statistics of the few that have some packed in offset order:
