@@ -21,7 +21,8 @@ TEST(WorkerPool, EveryTaskRunsOncePerRoundWhateverTheThreadCount) {
       ++runs[t];
       ids[t] = std::this_thread::get_id();
     });
-    for (size_t t = 0; t < threads; ++t) EXPECT_EQ(runs[t], 1) << "round " << round << " task " << t;
+    for (size_t t = 0; t < threads; ++t)
+      EXPECT_EQ(runs[t], 1) << "round " << round << " task " << t;
     EXPECT_EQ(ids[0], std::this_thread::get_id());  // task 0 on the caller
     for (size_t t = 1; t < threads; ++t) EXPECT_NE(ids[t], ids[0]);
     if (HasFailure()) return;

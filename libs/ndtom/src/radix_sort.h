@@ -42,7 +42,8 @@ void radixSortByKey(std::vector<T>& items, std::vector<T>& buffer, int key_bits,
     pool.run(threads, [&](size_t t) {
       size_t* next = &start[t * buckets];
       const auto [begin, end] = partRange(n, threads, t);
-      for (size_t i = begin; i < end; ++i) buffer[next[(items[i].key >> shift) & mask]++] = items[i];
+      for (size_t i = begin; i < end; ++i)
+        buffer[next[(items[i].key >> shift) & mask]++] = items[i];
     });
     items.swap(buffer);
   }

@@ -177,8 +177,7 @@ class CountingWalker {
 
  private:
   // Out of line and by value: a reference to a member would pin the walker in memory.
-  [[gnu::noinline]] static CountBlock* lookUp(ScanCounts* counts, int32_t x, int32_t y,
-                                              int32_t z) {
+  [[gnu::noinline]] static CountBlock* lookUp(ScanCounts* counts, int32_t x, int32_t y, int32_t z) {
     return &counts->blockAt(CellIndex{x, y, z});
   }
   static CountBlock* follow(ScanCounts* counts, CountBlock* from, int face) {

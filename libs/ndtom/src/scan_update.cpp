@@ -191,7 +191,8 @@ void ScanUpdater::groupEndsByCell() {
   });
   int key_bits = 1;
   while (key_bits < 64 && (uint64_t(1) << key_bits) < 2 * kBlockCells * nx * ny * nz) ++key_bits;
-  radixSortByKey(s_.ray_ends, s_.sort_buffer, key_bits, s_.pool, threadsFor(used, kMinPointsPerThread));
+  radixSortByKey(s_.ray_ends, s_.sort_buffer, key_bits, s_.pool,
+                 threadsFor(used, kMinPointsPerThread));
   // Groups are runs of equal keys. Threads split the sorted ends at run boundaries; each
   // gathers its ends (independent loads, instead of a dependent walk per group later) and
   // counts its runs, then fills its part of the group list.
