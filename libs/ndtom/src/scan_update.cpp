@@ -191,13 +191,12 @@ void ScanUpdater::groupEndsByCell() {
   });
   int key_bits = 1;
   while (key_bits < 64 && (uint64_t(1) << key_bits) < 2 * kBlockCells * nx * ny * nz) ++key_bits;
-  radixSortByKey(s_.ray_ends, s_.sort_buffer, key_bits, s_.pool,
-                 threadsFor(used, kMinPointsPerThread));
+  const size_t threads = threadsFor(used, kMinPointsPerThread);
+  radixSortByKey(s_.ray_ends, s_.sort_buffer, key_bits, s_.pool, threads);
   // Groups are runs of equal keys. Threads split the sorted ends at run boundaries; each
   // gathers its ends (independent loads, instead of a dependent walk per group later) and
   // counts its runs, then fills its part of the group list.
   s_.sorted_ends.resize(used);
-  const size_t threads = threadsFor(used, kMinPointsPerThread);
   std::vector<size_t> starts(threads + 1, used), runs(threads + 1, 0);
   starts[0] = 0;
   for (size_t t = 1; t < threads; ++t) {
@@ -221,10 +220,9 @@ void ScanUpdater::groupEndsByCell() {
   for (size_t t = 0; t < threads; ++t) runs[t + 1] += runs[t];
   s_.groups.resize(runs[threads]);
   group_means_ready_ = options_.ray_mode == RayMode::PerHitCell && map_.options().occupancy.enabled;
-  std::vector<size_t> hits(threads, 0);
   s_.pool.run(threads, [&](size_t t) {
     const GridGeometry& geometry = map_.geometry();
-    size_t group = runs[t], hit_count = 0;
+    size_t group = runs[t];
     for (size_t i = starts[t]; i < starts[t + 1]; ++group) {
       EndGroup& g = s_.groups[group];
       const uint64_t key = s_.ray_ends[i].key;
@@ -232,7 +230,6 @@ void ScanUpdater::groupEndsByCell() {
       while (i < starts[t + 1] && s_.ray_ends[i].key == key) ++i;
       g.count = uint32_t(i - g.begin);
       g.hit = (key & 1) != 0;
-      hit_count += g.hit;
       // The cell again from the sorted end (read in a row), not end_cells (a random access).
       g.cell = geometry.cellOf(s_.sorted_ends[g.begin]);
       g.mean = g.mean_end = Eigen::Vector3d::Zero();
@@ -243,14 +240,13 @@ void ScanUpdater::groupEndsByCell() {
       g.mean /= double(g.count);
       g.mean_end = centre + g.mean;
     }
-    hits[t] = hit_count;
   });
-  for (size_t n : hits) report_.cells_hit += n;
 
-  // Hit blocks and their hit cells, from the keys (dense index = block * kBlockCells + offset).
+  // Hit cells and their blocks, from the keys (dense index = block * kBlockCells + offset).
   uint64_t last_hit_block = 0;  // dense index of s_.hit_blocks.back()'s block
   for (size_t group = 0; group < s_.groups.size(); ++group) {
     if (!s_.groups[group].hit) continue;
+    ++report_.cells_hit;
     const uint64_t dense = s_.ray_ends[s_.groups[group].begin].key >> 1;
     const uint64_t block = dense / kBlockCells;
     if (s_.hit_blocks.empty() || block != last_hit_block) {
