@@ -108,3 +108,52 @@ TEST(RayDda, RaysThroughCornersAndFacesMatchBruteForce) {
     ++tested;
   }
 }
+
+namespace {
+
+// Records every visit with the ray it belongs to (set per ray by walkRays' callback).
+struct RecordingWalker {
+  std::vector<std::pair<int, CellIndex>>* visits;
+  int ray = -1;
+  CellIndex cell;
+  void start(const CellIndex& first) { cell = first; }
+  template <int Axis>
+  void move(int32_t step) {
+    cell[Axis] += step;
+  }
+  bool visit() {
+    visits->push_back({ray, cell});
+    return true;
+  }
+};
+
+}  // namespace
+
+// Many rays in one call (the walker kept in registers from ray to ray) visit what one call
+// per ray visits, in the same order; skipped rays visit nothing.
+TEST(RayDda, WalkRaysMatchesOneWalkPerRay) {
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<double> coord(-4.0, 4.0);
+  const GridGeometry g(0.3);
+  const Vector3d origin(0.1, -0.2, 0.05);
+  std::vector<Vector3d> ends(500);
+  for (Vector3d& e : ends) e = Vector3d(coord(rng), coord(rng), coord(rng));
+  auto skipped = [](size_t i) { return i % 7 == 3; };
+
+  std::vector<std::pair<int, CellIndex>> expected, actual;
+  for (size_t i = 40; i < 460; ++i) {
+    if (skipped(i)) continue;
+    ndtom::walkRay(g, origin, ends[i], RecordingWalker{&expected, int(i), {}});
+  }
+  const RecordingWalker last = ndtom::walkRays(
+      g, origin, 40, 460,
+      [&](size_t i, RecordingWalker& w) -> const Vector3d* {
+        if (skipped(i)) return nullptr;
+        w.ray = int(i);
+        return &ends[i];
+      },
+      RecordingWalker{&actual, -1, {}});
+  EXPECT_GT(expected.size(), 1000u);
+  EXPECT_EQ(actual, expected);
+  EXPECT_EQ(last.ray, 459);  // the walker's state comes back to the caller
+}

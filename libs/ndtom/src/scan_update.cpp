@@ -327,11 +327,17 @@ void ScanUpdater::traceFreeRays() {
   }
   s_.pool.run(threads, [&](size_t t) {
     CountingWalker count(s_.counts[t]);
-    for (size_t i = bounds[t]; i < bounds[t + 1]; ++i) {
-      const Eigen::Vector3d* end = rayEnd(i);
-      if (!end) continue;
-      if (!per_point) count.setWeight(s_.groups[i].count);
-      count = walkRay(geometry, origin_, *end, count);
+    if (per_point) {
+      count = walkRays(geometry, origin_, bounds[t], bounds[t + 1],
+                       [&](size_t i, CountingWalker&) { return rayEnd(i); }, count);
+    } else {
+      count = walkRays(
+          geometry, origin_, bounds[t], bounds[t + 1],
+          [&](size_t i, CountingWalker& walker) {
+            walker.setWeight(s_.groups[i].count);
+            return &s_.groups[i].mean_end;
+          },
+          count);
     }
     visits[t] = count.visits();
   });
@@ -438,7 +444,14 @@ void ScanUpdater::applyToMap() {
       applyHits(s_.hit_blocks[k], s_.apply_parts[t]);
   });
   collect(hit_threads_);
-  s_.pool.run(tables, [&](size_t t) { s_.counts[t].reset(); });  // their blocks are zero again
+  // Each table is zeroed by the thread that counts into it: its lines stay in that core's
+  // cache for the next scan instead of moving to whichever core applied the block.
+  s_.pool.run(tables, [&](size_t t) {
+    if (tables == 1)
+      s_.counts[t].reset();  // applyFreeCounts zeroed its blocks
+    else
+      s_.counts[t].clear();
+  });
 }
 
 // Eq. 12 for the cells that rays crossed without a hit, in counts[0]'s blocks [begin, end):
@@ -449,26 +462,30 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
   const double miss = map_.options().occupancy.missLogOdds();
   const size_t others = s_.counts_used - 1;
   ScanCounts& merged = s_.counts[0];
+  alignas(64) std::array<uint32_t, kBlockCells> sum;
   for (size_t b = begin; b < end; ++b) {
-    CountBlock& counts = merged.block(b);
-    for (size_t t = 0; t < others; ++t) {
-      CountBlock* other = s_.other_counts[b * others + t];
-      if (!other) continue;
-      for (int k = 0; k < kBlockCells; ++k) counts.count[k] += other->count[k];
-      other->zero();
+    // With several tables the sum goes to a local buffer: the tables are only read here, so
+    // their cache lines stay with the threads that count into them.
+    const uint32_t* count = merged.block(b).count.data();
+    if (others > 0) {
+      std::copy_n(count, kBlockCells, sum.data());
+      for (size_t t = 0; t < others; ++t)
+        if (const CountBlock* other = s_.other_counts[b * others + t])
+          for (int k = 0; k < kBlockCells; ++k) sum[size_t(k)] += other->count[size_t(k)];
+      count = sum.data();
     }
     NdtMap::Block& block = *s_.map_blocks[b];
     for (int g = 0; g < kBlockCells; g += kCountGroup) {
       // Visit only the crossed cells (a test per cell would be a coin-flip branch); tracking
       // touched groups in the DDA would cost more than finding them here.
-      uint32_t crossed = crossedCells(&counts.count[size_t(g)]);
+      uint32_t crossed = crossedCells(count + g);
       if (crossed == 0) continue;
       // The group's has_stats word, loaded once: testing it is as cheap as a per-cell slot.
       static_assert(64 % kCountGroup == 0, "a group's bits lie in one word");
       const uint64_t has = block.has_stats[g >> 6];
       for (; crossed != 0; crossed &= crossed - 1) {
         const int i = g + __builtin_ctz(crossed);
-        const uint32_t n = counts.count[i];
+        const uint32_t n = count[i];
         ++part.touched;
         if ((has >> (i & 63)) & 1) {
           const float logodds = map_.clampLogOdds(double(block.logodds[i]) + double(n) * miss);
@@ -484,7 +501,7 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
         block.logodds[i] = float(std::clamp(double(block.logodds[i]) + double(n) * miss, lo, hi));
       }
     }
-    counts.zero();  // while it is in cache
+    if (others == 0) merged.zeroBlock(b);  // while it is in cache
   }
 }
 
