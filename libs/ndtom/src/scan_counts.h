@@ -33,12 +33,6 @@ class alignas(64) ScanCounts {  // one per thread: no shared cache line
   /// The counters of a block, created (zeroed) on first use this scan.
   CountBlock& blockAt(const CellIndex& block) { return blockFor(block); }
 
-  /// Counter of a cell, or nullptr if no ray crossed its block.
-  uint32_t* find(const CellIndex& c) {
-    const int64_t slot = findSlot(blockOf(c));
-    return slot < 0 ? nullptr : &blocks_[table_[size_t(slot)].block]->count[offsetInBlock(c)];
-  }
-
   /// Counters of a block, or nullptr if no ray crossed it.
   CountBlock* findBlock(const CellIndex& block) {
     const int64_t slot = findSlot(block);

@@ -407,11 +407,16 @@ void ScanUpdater::allocateForApply() {
 // threads, each block (with its statistics) owned by one.
 void ScanUpdater::applyToMap() {
   const size_t tables = s_.counts_used;
-  // A cell with hits in this scan takes the hit update only (Eq. 12, N_p > 0).
+  // A cell with hits in this scan takes the hit update only (Eq. 12, N_p > 0): its free
+  // counts are dropped, a table lookup per hit block.
   s_.pool.run(tables, [&](size_t t) {
-    for (const EndGroup& g : s_.groups)
-      if (g.hit)
-        if (uint32_t* n = s_.counts[t].find(g.cell)) *n = 0;
+    for (const ScanScratch::HitBlock& h : s_.hit_blocks) {
+      CountBlock* counts = s_.counts[t].findBlock(blockOf(s_.groups[h.first_group].cell));
+      if (!counts) continue;
+      for (int w = 0; w < NdtMap::Block::kWords; ++w)
+        for (uint64_t bits = h.hits[w]; bits != 0; bits &= bits - 1)
+          counts->count[size_t(w * 64 + __builtin_ctzll(bits))] = 0;
+    }
   });
   allocateForApply();
 
