@@ -46,7 +46,8 @@ class WorkerPool {
     while (workers_.size() < threads - 1) {
       try {
         // It starts having seen the rounds so far: the next one is its first.
-        workers_.emplace_back([this, t = workers_.size() + 1, seen = round_.load()] { work(t, seen); });
+        workers_.emplace_back(
+            [this, t = workers_.size() + 1, seen = round_.load()] { work(t, seen); });
       } catch (...) {
         break;
       }
@@ -132,7 +133,7 @@ class WorkerPool {
   void (*invoke_)(void*, size_t) = nullptr;
   void* context_ = nullptr;
   std::vector<std::exception_ptr>* errors_ = nullptr;
-  size_t helpers_ = 0;  ///< workers taking part in this round: tasks 1 .. helpers_
+  size_t helpers_ = 0;              ///< workers taking part in this round: tasks 1 .. helpers_
   std::atomic<size_t> pending_{0};  ///< of them, still running
   std::atomic<uint64_t> round_{0};
   bool stop_ = false;

@@ -328,8 +328,9 @@ void ScanUpdater::traceFreeRays() {
   s_.pool.run(threads, [&](size_t t) {
     CountingWalker count(s_.counts[t]);
     if (per_point) {
-      count = walkRays(geometry, origin_, bounds[t], bounds[t + 1],
-                       [&](size_t i, CountingWalker&) { return rayEnd(i); }, count);
+      count = walkRays(
+          geometry, origin_, bounds[t], bounds[t + 1],
+          [&](size_t i, CountingWalker&) { return rayEnd(i); }, count);
     } else {
       count = walkRays(
           geometry, origin_, bounds[t], bounds[t + 1],

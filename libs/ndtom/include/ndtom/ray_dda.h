@@ -46,8 +46,8 @@ Walker walkRay(const GridGeometry& geometry, const Eigen::Vector3d& from, const 
 /// set up the walker for its ray). The walker stays in registers from ray to ray; passed and
 /// returned through memory per ray, it stalled on store forwarding (4 % of a scan's time).
 template <class Walker, class RayEnd>
-Walker walkRays(const GridGeometry& geometry, const Eigen::Vector3d& from, size_t begin,
-                size_t end, RayEnd&& rayEnd, Walker walker);
+Walker walkRays(const GridGeometry& geometry, const Eigen::Vector3d& from, size_t begin, size_t end,
+                RayEnd&& rayEnd, Walker walker);
 
 /// Calls visit(cell) for every cell walkRay visits, in order; visit returns false to stop.
 /// The visitor is taken and returned by value, like the walker.
@@ -199,11 +199,12 @@ Walker walkRay(const GridGeometry& geometry, const Eigen::Vector3d& from, const 
 }
 
 template <class Walker, class RayEnd>
-Walker walkRays(const GridGeometry& geometry, const Eigen::Vector3d& from, size_t begin,
-                size_t end, RayEnd&& rayEnd, Walker walker) {
+Walker walkRays(const GridGeometry& geometry, const Eigen::Vector3d& from, size_t begin, size_t end,
+                RayEnd&& rayEnd, Walker walker) {
   Walker local(std::move(walker));
   for (size_t i = begin; i < end; ++i)
-    if (const Eigen::Vector3d* to = rayEnd(i, local)) detail::walkSegment(geometry, from, *to, local);
+    if (const Eigen::Vector3d* to = rayEnd(i, local))
+      detail::walkSegment(geometry, from, *to, local);
   return Walker(std::move(local));
 }
 
