@@ -61,4 +61,37 @@ RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats,
   return r;
 }
 
+PairedSeconds runPaired(MappingSystem& first, MappingSystem& second, const ScanSet& set,
+                        int repeats, apps::Progress& progress) {
+  using Clock = std::chrono::steady_clock;
+  PairedSeconds total;
+  const size_t scans = set.scans.size();
+  size_t done = 0, points_done = 0;
+  auto insert = [&](MappingSystem& system, size_t i) {
+    const Scan& scan = set.scans[i];
+    system.prepareScan(scan);
+    const auto start = Clock::now();
+    system.insertScan(scan);
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  for (int rep = 0; rep < repeats; ++rep) {
+    first.reset();
+    second.reset();
+    for (size_t begin = 0; begin < scans; begin += kScansPerTurn) {
+      const size_t end = std::min(scans, begin + kScansPerTurn);
+      for (int side = 0; side < 2; ++side) {
+        MappingSystem& system = side == 0 ? first : second;
+        double& seconds = side == 0 ? total.first : total.second;
+        for (size_t i = begin; i < end; ++i) {
+          seconds += insert(system, i);
+          points_done += set.scans[i].points.size();
+          progress.update(++done, points_done, total.first + total.second);
+        }
+      }
+    }
+  }
+  progress.finish();
+  return total;
+}
+
 }  // namespace ndtom::bench

@@ -13,4 +13,20 @@ namespace ndtom::bench {
 RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats,
                     apps::Progress& progress);
 
+/// Insertion seconds of two systems replayed side by side (see runPaired), summed over scans.
+struct PairedSeconds {
+  double first = 0, second = 0;
+};
+
+/// Scans per turn in runPaired: short enough that a spell of load on a shared machine falls
+/// on both systems, long enough that each turn but its first scan finds its own map in cache.
+inline constexpr size_t kScansPerTurn = 4;
+
+/// Replays `set` `repeats` times into fresh maps of `first` and `second`, which take turns of
+/// kScansPerTurn scans (first, second, first, ...): each still sees every scan once per
+/// repeat, in order. The way to measure one's speed-up over the other on a
+/// shared machine, where runs one after the other can meet different loads.
+PairedSeconds runPaired(MappingSystem& first, MappingSystem& second, const ScanSet& set,
+                        int repeats, apps::Progress& progress);
+
 }  // namespace ndtom::bench

@@ -118,6 +118,21 @@ void runDataset(const ScanSet& set, const BenchOptions& o, const std::vector<Pla
       runs.push_back(std::move(r));
     }
     compareNdtomMaps(runs, first, ndt_maps);
+    // Thread speed-ups once more, each multi-thread system side by side with one thread.
+    for (size_t i = first; i < runs.size(); ++i) {
+      RunResult& r = runs[i];
+      if (!isNdtom(r.kind) || r.threads <= 1) continue;
+      std::unique_ptr<MappingSystem> one = makeSystem({r.kind, 1}, resolution, o.max_range, bounds);
+      std::unique_ptr<MappingSystem> many =
+          makeSystem({r.kind, r.threads}, resolution, o.max_range, bounds);
+      char title[200];
+      std::snprintf(title, sizeof title, "run %d/%d %s %.2f m %s side by side with %s", ++run_index,
+                    total_runs, set.name.c_str(), resolution, r.label.c_str(),
+                    one->label().c_str());
+      progress.start(title, 2 * set.scans.size() * size_t(o.repeats));
+      const PairedSeconds paired = runPaired(*one, *many, set, o.repeats, progress);
+      if (paired.second > 0) r.paired_speedup = paired.first / paired.second;
+    }
   }
 }
 
@@ -164,7 +179,11 @@ int run(const BenchOptions& o) {
                                  " is already given");
   }
   const std::vector<PlannedRun> plan = planRuns(o, threads);
-  const int total_runs = int(sets.size() * o.resolutions.size() * plan.size());
+  const auto multi_thread = std::count_if(plan.begin(), plan.end(), [](const PlannedRun& p) {
+    return isNdtom(p.kind) && p.threads > 1;
+  });
+  const int total_runs =
+      int(sets.size() * o.resolutions.size() * (plan.size() + size_t(multi_thread)));
   apps::Progress progress(!o.quiet);
   std::vector<RunResult> runs;
   int run_index = 0;

@@ -48,6 +48,14 @@ std::optional<double> timeRatio(const std::vector<RunResult>& runs, const RunRes
   return mine / theirs;
 }
 
+std::optional<double> oneThreadSpeedup(const std::vector<RunResult>& runs, const RunResult& run) {
+  if (run.threads <= 1) return std::nullopt;
+  const std::string one = run.label.substr(0, run.label.find('/')) + "/t1";
+  const RunResult* other = findRun(runs, run.dataset, run.resolution, one);
+  if (!other || !(run.totalSeconds() > 0)) return std::nullopt;
+  return other->totalSeconds() / run.totalSeconds();
+}
+
 std::string resultsTable(const std::vector<RunResult>& runs) {
   std::string out =
       "| dataset | system | res (m) | median ms/scan | p95 ms/scan | median CPU ms | Mpoints/s | "
@@ -71,9 +79,9 @@ std::string resultsTable(const std::vector<RunResult>& runs) {
 
 std::string comparisonTable(const std::vector<RunResult>& runs) {
   std::string out =
-      "| dataset | system | res (m) | identical to /t1 | Gaussians (exact → this) | "
-      "occupancy mismatch vs exact | similarity vs exact |\n"
-      "|---|---|---:|---|---|---:|---:|\n";
+      "| dataset | system | res (m) | identical to /t1 | speed-up vs /t1: separate runs, side by "
+      "side | Gaussians (exact → this) | occupancy mismatch vs exact | similarity vs exact |\n"
+      "|---|---|---:|---|---|---|---:|---:|\n";
   for (const RunResult& r : runs) {
     if (!r.vs_exact && !r.vs_one_thread) continue;
     const std::string identical =
@@ -86,8 +94,13 @@ std::string comparisonTable(const std::vector<RunResult>& runs) {
       similarity =
           r.vs_exact->similarity ? format("%.4f", *r.vs_exact->similarity) : "n/a (not in core)";
     }
+    std::string speedup = "-";
+    if (const auto separate = oneThreadSpeedup(runs, r))
+      speedup = format("%.2fx", *separate) +
+                (r.paired_speedup ? format(", %.2fx", *r.paired_speedup) : std::string());
     out += "| " + r.dataset + " | " + r.label + " | " + format("%.2f", r.resolution) + " | " +
-           identical + " | " + gaussians + " | " + mismatch + " | " + similarity + " |\n";
+           identical + " | " + speedup + " | " + gaussians + " | " + mismatch + " | " + similarity +
+           " |\n";
   }
   return out;
 }
@@ -99,7 +112,8 @@ void writeCsv(const std::string& path, const std::vector<RunResult>& runs) {
          "voxel_visits_per_s,points,voxel_visits,peak_rss_delta_bytes,memory_bytes,cells,"
          "bytes_per_cell,ratio_octomap,ratio_grid3d,repeat_median_min_ms,repeat_median_max_ms,"
          "identical_to_t1,gaussians,occupancy_mismatch_vs_exact,similarity_vs_exact,cpu_per_wall,"
-         "median_cpu_ms,ratio_octomap_cpu,ratio_grid3d_cpu\n";
+         "median_cpu_ms,ratio_octomap_cpu,ratio_grid3d_cpu,speedup_vs_t1,speedup_vs_t1_side_by_"
+         "side\n";
   for (const RunResult& r : runs) {
     const auto [lo, hi] =
         std::minmax_element(r.repeat_median_seconds.begin(), r.repeat_median_seconds.end());
@@ -117,7 +131,8 @@ void writeCsv(const std::string& path, const std::vector<RunResult>& runs) {
         << (r.vs_exact && r.vs_exact->similarity ? std::to_string(*r.vs_exact->similarity) : "")
         << ',' << r.cpuPerWall() << ',' << r.medianCpuSeconds() * 1e3 << ','
         << optionalText(timeRatio(runs, r, kOctomap, true)) << ','
-        << optionalText(timeRatio(runs, r, kGrid3d, true)) << '\n';
+        << optionalText(timeRatio(runs, r, kGrid3d, true)) << ','
+        << optionalText(oneThreadSpeedup(runs, r)) << ',' << optionalText(r.paired_speedup) << '\n';
   }
   if (!out) throw std::runtime_error("--csv " + path + ": write failed");
 }

@@ -15,6 +15,10 @@ namespace ndtom::bench {
 std::optional<double> timeRatio(const std::vector<RunResult>& runs, const RunResult& run,
                                 const std::string& other_label, bool cpu_time = false);
 
+/// For threads > 1: the same ray mode's one-thread total insertion time over this run's
+/// (separate runs, as timed by runSystem); empty otherwise.
+std::optional<double> oneThreadSpeedup(const std::vector<RunResult>& runs, const RunResult& run);
+
 /// One row per run: times, rates, memory, cells and the ratios to OctoMap and the 3D grid.
 std::string resultsTable(const std::vector<RunResult>& runs);
 /// One row per NDT-OM speed-up: identity to one thread, distance to the exact path.

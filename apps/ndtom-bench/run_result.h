@@ -31,6 +31,9 @@ struct RunResult {
   std::optional<MapComparison> vs_exact;
   /// ... and, for threads > 1, against the same ray mode on one thread (must be identical).
   std::optional<MapComparison> vs_one_thread;
+  /// For threads > 1: one thread's insertion time over this one's, the two replayed side by
+  /// side in turns (runPaired), so that load on a shared machine falls on both alike.
+  std::optional<double> paired_speedup;
 
   double medianSeconds() const;
   /// Median process CPU time per scan: unlike wall time, not inflated when other processes

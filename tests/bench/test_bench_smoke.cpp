@@ -163,6 +163,44 @@ TEST_F(BenchSmoke, SummaryHasTheTableAndTheTargets) {
   EXPECT_EQ(verdicts, 4u);
 }
 
+// Two threads: the map is compared with one thread's, and the speed-up is measured twice,
+// in separate runs and side by side (runPaired), each in the CSV and the target's line.
+TEST(BenchThreads, TwoThreadRunsReportIdentityAndBothSpeedups) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("ndtom-bench-threads-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  ASSERT_EQ(runBench(dir, "--dataset " + kData +
+                              " --scans 2 --resolutions 0.8 --systems ndtom-point --threads 1,2 "
+                              "--quiet --csv " +
+                              (dir / "out.csv").string()),
+            0)
+      << readFile(dir / "err.txt");
+  const std::vector<std::string> lines = split(readFile(dir / "out.csv"), '\n');
+  ASSERT_GE(lines.size(), 3u);
+  const std::vector<std::string> header = split(lines[0], ',');
+  std::map<std::string, std::map<std::string, std::string>> rows;
+  for (size_t i = 1; i < lines.size(); ++i) {
+    const std::vector<std::string> cells = split(lines[i], ',');
+    for (size_t k = 0; k < cells.size() && k < header.size(); ++k)
+      rows[cells[1]][header[k]] = cells[k];
+  }
+  ASSERT_EQ(rows.count("ndtom-point/t2"), 1u);
+  const auto& t1 = rows["ndtom-point/t1"];
+  const auto& t2 = rows["ndtom-point/t2"];
+  EXPECT_EQ(t2.at("identical_to_t1"), "1");
+  EXPECT_EQ(t1.at("speedup_vs_t1"), "");
+  EXPECT_EQ(t1.at("speedup_vs_t1_side_by_side"), "");
+  EXPECT_GT(std::stod(t2.at("speedup_vs_t1")), 0.0);
+  EXPECT_GT(std::stod(t2.at("speedup_vs_t1_side_by_side")), 0.0);
+  // The separate-runs figure is the ratio of the two rows' rates.
+  EXPECT_NEAR(std::stod(t2.at("speedup_vs_t1")),
+              std::stod(t2.at("points_per_s")) / std::stod(t1.at("points_per_s")),
+              1e-3 * std::stod(t2.at("speedup_vs_t1")));
+  const std::string out = readFile(dir / "out.txt");
+  EXPECT_NE(out.find("side by side ("), std::string::npos) << out;
+  fs::remove_all(dir);
+}
+
 TEST(BenchBadInput, FailsWithOneLineMessage) {
   const fs::path dir = fs::temp_directory_path() / ("ndtom-bench-bad-" + std::to_string(getpid()));
   fs::create_directories(dir);
