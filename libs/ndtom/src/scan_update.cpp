@@ -284,8 +284,8 @@ CellStats ScanUpdater::groupStats(const EndGroup& g) const {
   return stats;
 }
 
-// Step 3: count N_e, the rays crossing each cell without ending in it. Rays are split in
-// contiguous chunks (neighbouring rays share cells) over threads with their own counters.
+// Step 3: count N_e, the rays crossing each cell without ending in it, each thread into its
+// own counter table.
 void ScanUpdater::traceFreeRays() {
   const bool per_point = options_.ray_mode == RayMode::PerPoint;
   const size_t rays = per_point ? report_.pointsUsed() : s_.groups.size();
@@ -295,10 +295,10 @@ void ScanUpdater::traceFreeRays() {
 
   const GridGeometry& geometry = map_.geometry();
   std::vector<size_t> visits(threads, 0);
-  // Contiguous ranges in ray order, not chunks taken as threads go: the tables then meet
-  // their blocks in the order one thread would, and the map's blocks are created in that
-  // order whatever the thread count (iteration order, hence e.g. coarsened(), depends on it).
-  // The ranges hold near-equal total ray lengths (what a walk costs), so no thread waits long.
+  // Each thread walks a contiguous range of rays (neighbouring rays share cells, so its table
+  // stays small), the ranges of near-equal total ray length (what a walk costs); a thread done
+  // with its range helps with the others' (a ray's cost is only roughly its length). Which
+  // thread walks a ray changes nothing in the map (allocateForApply).
   const size_t items = per_point ? s_.kinds.size() : s_.groups.size();
   auto rayEnd = [&](size_t i) -> const Eigen::Vector3d* {
     if (!per_point) return &s_.groups[i].mean_end;
@@ -325,20 +325,34 @@ void ScanUpdater::traceFreeRays() {
       bounds[t] = partRange(items, kPieces, piece).first;
     }
   }
+  struct alignas(64) Cursor {  // the next ray of a range; own cache line
+    std::atomic<size_t> next{0};
+  };
+  std::vector<Cursor> cursors(threads);
+  for (size_t t = 0; t < threads; ++t) cursors[t].next.store(bounds[t], std::memory_order_relaxed);
+  constexpr size_t kRaysPerTake = 256;
   s_.pool.run(threads, [&](size_t t) {
     CountingWalker count(s_.counts[t]);
-    if (per_point) {
-      count = walkRays(
-          geometry, origin_, bounds[t], bounds[t + 1],
-          [&](size_t i, CountingWalker&) { return rayEnd(i); }, count);
-    } else {
-      count = walkRays(
-          geometry, origin_, bounds[t], bounds[t + 1],
-          [&](size_t i, CountingWalker& walker) {
-            walker.setWeight(s_.groups[i].count);
-            return &s_.groups[i].mean_end;
-          },
-          count);
+    for (size_t k = 0; k < threads; ++k) {  // its own range first, then the others'
+      const size_t range = (t + k) % threads, range_end = bounds[range + 1];
+      for (;;) {
+        const size_t begin = cursors[range].next.fetch_add(kRaysPerTake, std::memory_order_relaxed);
+        if (begin >= range_end) break;
+        const size_t end = std::min(range_end, begin + kRaysPerTake);
+        if (per_point) {
+          count = walkRays(
+              geometry, origin_, begin, end, [&](size_t i, CountingWalker&) { return rayEnd(i); },
+              count);
+        } else {
+          count = walkRays(
+              geometry, origin_, begin, end,
+              [&](size_t i, CountingWalker& walker) {
+                walker.setWeight(s_.groups[i].count);
+                return &s_.groups[i].mean_end;
+              },
+              count);
+        }
+      }
     }
     visits[t] = count.visits();
   });
@@ -368,10 +382,16 @@ void ScanUpdater::allocateForApply() {
     s_.map_blocks.resize(blocks);
     s_.created_blocks.reserve(blocks);
     for (size_t i = 0; i < blocks; ++i) {
-      bool created = false;
-      s_.map_blocks[i] = &grid.getOrCreate(merged.blockIndex(i), &created);
-      if (created) s_.created_blocks.push_back(merged.blockIndex(i));
+      s_.map_blocks[i] = grid.find(merged.blockIndex(i));
+      if (!s_.map_blocks[i]) s_.created_blocks.push_back(merged.blockIndex(i));
     }
+    // New blocks are created in coordinate order, not in the order the tables met them: the
+    // map's iteration order (hence e.g. coarsened()) then does not depend on how the rays
+    // were shared among threads. (A rollback erasing one not created yet does nothing.)
+    std::sort(s_.created_blocks.begin(), s_.created_blocks.end());
+    for (const CellIndex& b : s_.created_blocks) grid.getOrCreate(b);
+    for (size_t i = 0; i < blocks; ++i)
+      if (!s_.map_blocks[i]) s_.map_blocks[i] = grid.find(merged.blockIndex(i));
     // Exact room for the statistics each hit block's cells may gain (hit cells without
     // any): memory follows the statistics.
     for (ScanScratch::HitBlock& h : s_.hit_blocks) {
