@@ -124,7 +124,8 @@ Only insertion is timed. Progress goes to stderr, the summary table to stdout.
   --threads LIST           NDT-OM insertion threads (default: 1,2 if the core supports
                            threads, else 1)
   --max-range M            rays longer than M are truncated, for every system (default: 30)
-  --repeats N              full runs per system and resolution; times are pooled (default: 1)
+  --repeats N              full runs per system and resolution; times are pooled (default: 1;
+                           the side-by-side thread comparison runs at least 3)
   --csv FILE               write one row per system, threads and resolution
   --plot PREFIX            write PREFIX_<dataset>.png: time per scan against resolution
   --quiet                  no progress output
