@@ -339,6 +339,8 @@ void ScanUpdater::traceFreeRays() {
         const size_t begin = cursors[range].next.fetch_add(kRaysPerTake, std::memory_order_relaxed);
         if (begin >= range_end) break;
         const size_t end = std::min(range_end, begin + kRaysPerTake);
+        // One call per mode keeps the mode test out of the per-ray loop (+0.3 % instructions
+        // in one call with the test inside).
         if (per_point) {
           count = walkRays(
               geometry, origin_, begin, end, [&](size_t i, CountingWalker&) { return rayEnd(i); },
@@ -347,7 +349,7 @@ void ScanUpdater::traceFreeRays() {
           count = walkRays(
               geometry, origin_, begin, end,
               [&](size_t i, CountingWalker& walker) {
-                walker.setWeight(s_.groups[i].count);
+                walker.setWeight(s_.groups[i].count);  // one ray per hit group, its weight
                 return &s_.groups[i].mean_end;
               },
               count);
@@ -380,18 +382,21 @@ void ScanUpdater::allocateForApply() {
       for (size_t t = 1; t < tables; ++t)
         s_.other_counts[i * (tables - 1) + t - 1] = s_.counts[t].findBlock(merged.blockIndex(i));
     s_.map_blocks.resize(blocks);
-    s_.created_blocks.reserve(blocks);
+    s_.new_blocks.clear();
     for (size_t i = 0; i < blocks; ++i) {
       s_.map_blocks[i] = grid.find(merged.blockIndex(i));
-      if (!s_.map_blocks[i]) s_.created_blocks.push_back(merged.blockIndex(i));
+      if (!s_.map_blocks[i]) s_.new_blocks.push_back(i);
     }
     // New blocks are created in coordinate order, not in the order the tables met them: the
     // map's iteration order (hence e.g. coarsened()) then does not depend on how the rays
-    // were shared among threads. (A rollback erasing one not created yet does nothing.)
-    std::sort(s_.created_blocks.begin(), s_.created_blocks.end());
-    for (const CellIndex& b : s_.created_blocks) grid.getOrCreate(b);
-    for (size_t i = 0; i < blocks; ++i)
-      if (!s_.map_blocks[i]) s_.map_blocks[i] = grid.find(merged.blockIndex(i));
+    // were shared among threads.
+    std::sort(s_.new_blocks.begin(), s_.new_blocks.end(),
+              [&](size_t a, size_t b) { return merged.blockIndex(a) < merged.blockIndex(b); });
+    s_.created_blocks.reserve(s_.new_blocks.size());
+    for (const size_t i : s_.new_blocks) {
+      s_.map_blocks[i] = &grid.getOrCreate(merged.blockIndex(i));
+      s_.created_blocks.push_back(merged.blockIndex(i));
+    }
     // Exact room for the statistics each hit block's cells may gain (hit cells without
     // any): memory follows the statistics.
     for (ScanScratch::HitBlock& h : s_.hit_blocks) {

@@ -45,6 +45,7 @@ struct ScanScratch {
   size_t counts_used = 1;                 ///< tables filled by this scan's tracing (>= 1)
   std::vector<CountBlock*> other_counts;  ///< [block * (counts_used-1) + t-1], or nullptr
   std::vector<NdtMap::Block*> map_blocks;  ///< the map's block of each counts[0] block
+  std::vector<size_t> new_blocks;          ///< counts[0] blocks the map lacks, to create
   std::vector<CellIndex> created_blocks;   ///< map blocks this scan created, for a rollback
   /// What one thread of the map update did; a cache line each, as threads count per cell.
   struct alignas(64) ApplyPart {
