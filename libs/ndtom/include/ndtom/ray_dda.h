@@ -86,10 +86,6 @@ struct CellVisitorWalker {
   bool visit() { return visitor(static_cast<const CellIndex&>(cell)); }
 };
 
-}  // namespace detail
-
-namespace detail {
-
 template <class Walker>
 [[gnu::always_inline]] inline void walkSegment(const GridGeometry& geometry,
                                                const Eigen::Vector3d& from,
