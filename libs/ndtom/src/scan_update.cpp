@@ -390,15 +390,22 @@ void ScanUpdater::allocateForApply() {
       merged.blockAt(blockOf(s_.groups[h.first_group].cell));
     const size_t blocks = merged.numBlocks();
     s_.other_counts.resize(blocks * (tables - 1));
-    for (size_t i = 0; i < blocks; ++i)
-      for (size_t t = 1; t < tables; ++t)
-        s_.other_counts[i * (tables - 1) + t - 1] = s_.counts[t].findBlock(merged.blockIndex(i));
     s_.map_blocks.resize(blocks);
+    // Lookups only (nothing is created until below), a hash lookup and likely a cache miss
+    // each: split over threads.
+    const size_t lookup_threads = threadsFor(blocks, kMinBlocksPerThread);
+    s_.pool.run(lookup_threads, [&](size_t t) {
+      const auto [begin, end] = partRange(blocks, lookup_threads, t);
+      for (size_t i = begin; i < end; ++i) {
+        const CellIndex& b = merged.blockIndex(i);
+        for (size_t k = 1; k < tables; ++k)
+          s_.other_counts[i * (tables - 1) + k - 1] = s_.counts[k].findBlock(b);
+        s_.map_blocks[i] = grid.find(b);
+      }
+    });
     s_.new_blocks.clear();
-    for (size_t i = 0; i < blocks; ++i) {
-      s_.map_blocks[i] = grid.find(merged.blockIndex(i));
+    for (size_t i = 0; i < blocks; ++i)
       if (!s_.map_blocks[i]) s_.new_blocks.push_back(i);
-    }
     // New blocks are created in coordinate order, not in the order the tables met them: the
     // map's iteration order (hence e.g. coarsened()) then does not depend on how the rays
     // were shared among threads.
@@ -410,15 +417,20 @@ void ScanUpdater::allocateForApply() {
       s_.created_blocks.push_back(merged.blockIndex(i));
     }
     // Exact room for the statistics each hit block's cells may gain (hit cells without
-    // any): memory follows the statistics.
-    for (ScanScratch::HitBlock& h : s_.hit_blocks) {
-      h.block = s_.map_blocks[size_t(merged.indexOf(blockOf(s_.groups[h.first_group].cell)))];
-      size_t missing = 0;
-      for (int w = 0; w < NdtMap::Block::kWords; ++w)
-        if (const uint64_t m = h.hits[w] & ~h.block->has_stats[w])
-          missing += size_t(__builtin_popcountll(m));
-      if (missing > 0) h.grown.reserve(h.block->stats.size() + missing);
-    }
+    // any): memory follows the statistics. Each hit block on its own, split over threads.
+    const size_t reserve_threads = threadsFor(s_.hit_blocks.size(), kMinBlocksPerThread);
+    s_.pool.run(reserve_threads, [&](size_t t) {
+      const auto [begin, end] = partRange(s_.hit_blocks.size(), reserve_threads, t);
+      for (size_t k = begin; k < end; ++k) {
+        ScanScratch::HitBlock& h = s_.hit_blocks[k];
+        h.block = s_.map_blocks[size_t(merged.indexOf(blockOf(s_.groups[h.first_group].cell)))];
+        size_t missing = 0;
+        for (int w = 0; w < NdtMap::Block::kWords; ++w)
+          if (const uint64_t m = h.hits[w] & ~h.block->has_stats[w])
+            missing += size_t(__builtin_popcountll(m));
+        if (missing > 0) h.grown.reserve(h.block->stats.size() + missing);
+      }
+    });
 
     // Hit blocks split in near-equal ranges of groups.
     const size_t groups = s_.groups.size();
