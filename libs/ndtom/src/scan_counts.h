@@ -70,8 +70,10 @@ class alignas(64) ScanCounts {  // one per thread: no shared cache line
 
   /// Forgets all blocks; their memory is kept for the next scan. Callers zero the blocks
   /// they read (while they are in cache) with zeroBlock(), or clear() does it.
-  void clear() {
-    for (size_t i = 0; i < used_.size(); ++i) zeroBlock(i);
+  void clear() { clear(used_.size()); }
+  /// The same, when only the first `written` blocks may hold non-zero counters.
+  void clear(size_t written) {
+    for (size_t i = 0; i < std::min(written, used_.size()); ++i) zeroBlock(i);
     reset();
   }
   void zeroBlock(size_t i) { blocks_[i]->zero(); }

@@ -382,6 +382,7 @@ void ScanUpdater::allocateForApply() {
   const size_t tables = s_.counts_used;
   ScanCounts& merged = s_.counts[0];
   s_.created_blocks.clear();
+  s_.traced_blocks = merged.numBlocks();
   try {
     for (size_t t = 1; t < tables; ++t)
       for (size_t i = 0; i < s_.counts[t].numBlocks(); ++i)
@@ -504,6 +505,8 @@ void ScanUpdater::applyToMap() {
   s_.pool.run(tables, [&](size_t t) {
     if (tables == 1)
       s_.counts[t].reset();  // applyFreeCounts zeroed its blocks
+    else if (t == 0)
+      s_.counts[t].clear(s_.traced_blocks);  // blocks merged in after the walk stayed zero
     else
       s_.counts[t].clear();
   });
