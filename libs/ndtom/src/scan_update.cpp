@@ -433,17 +433,19 @@ void ScanUpdater::allocateForApply() {
       }
     });
 
-    // Hit blocks split in near-equal ranges of groups.
-    const size_t groups = s_.groups.size();
-    hit_threads_ = threadsFor(report_.cells_hit, kMinGroupsPerThread);
+    // Hit blocks split in ranges of near-equal numbers of ray ends: a hit cell's update
+    // reads all its points (coarse cells hold tens), and its merge comes on top.
+    hit_threads_ = std::max(threadsFor(report_.hits, kMinPointsPerThread),
+                            threadsFor(report_.cells_hit, kMinGroupsPerThread));
     s_.hit_part_starts.resize(hit_threads_ + 1);
     for (size_t t = 0; t <= hit_threads_; ++t) {
-      const size_t start = partRange(groups, hit_threads_, t).first;
-      s_.hit_part_starts[t] =
-          size_t(std::lower_bound(
-                     s_.hit_blocks.begin(), s_.hit_blocks.end(), start,
-                     [](const ScanScratch::HitBlock& h, size_t g) { return h.first_group < g; }) -
-                 s_.hit_blocks.begin());
+      const size_t start = partRange(s_.sorted_ends.size(), hit_threads_, t).first;
+      s_.hit_part_starts[t] = size_t(
+          std::lower_bound(s_.hit_blocks.begin(), s_.hit_blocks.end(), start,
+                           [&](const ScanScratch::HitBlock& h, size_t end) {
+                             return s_.groups[h.first_group].begin < end;
+                           }) -
+          s_.hit_blocks.begin());
     }
     apply_threads_ = threadsFor(blocks, kMinBlocksPerThread);
     const size_t parts = std::max(apply_threads_, hit_threads_);
