@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 
 #include "ndtom_apps/process_memory.h"
@@ -59,6 +60,13 @@ RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats,
   r.map = system.mapSize();
   progress.finish();
   return r;
+}
+
+int pairedRepeats(double replay_seconds, int min_repeats, double min_seconds) {
+  constexpr int kMaxRepeats = 100;  // a replay timed at ~0 s must not run forever
+  if (!(replay_seconds > 0)) return std::max(min_repeats, 1);
+  const double needed = std::ceil(min_seconds / replay_seconds);
+  return std::max({min_repeats, 1, int(std::min(needed, double(kMaxRepeats)))});
 }
 
 PairedSeconds runPaired(MappingSystem& first, MappingSystem& second, const ScanSet& set,

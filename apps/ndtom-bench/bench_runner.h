@@ -22,6 +22,11 @@ struct PairedSeconds {
 /// on both systems, long enough that each turn but its first scan finds its own map in cache.
 inline constexpr size_t kScansPerTurn = 4;
 
+/// Replays for a side-by-side comparison: at least `min_repeats`, and enough that the faster
+/// system's side lasts `min_seconds` when one of its replays takes `replay_seconds`. On a
+/// shared machine a sub-second measurement is decided by whichever spell of load meets it.
+int pairedRepeats(double replay_seconds, int min_repeats, double min_seconds);
+
 /// Replays `set` `repeats` times into fresh maps of `first` and `second`, which take turns of
 /// kScansPerTurn scans (first, second, first, ...): each still sees every scan once per
 /// repeat, in order. The way to measure one's speed-up over the other on a

@@ -29,8 +29,11 @@ namespace {
 constexpr int kDefaultSyntheticScans = 60;
 constexpr double kMaxGridBytes = 8e9;  // the dense grid is refused beyond this
 // A side-by-side replay at a coarse resolution lasts under a second, and one spell of load
-// from another tenant of the host would decide it: pool at least this many.
+// from another tenant of the host would decide it: pool at least this many replays, and at
+// least this long on the multi-thread side (a full run at 0.8 m once had 1.59x where 0.2 m,
+// 4.5 s of it, had 1.75x).
 constexpr int kMinPairedRepeats = 3;
+constexpr double kMinPairedSeconds = 2.5;
 
 /// One system to run: a kind, and the thread count for NDT-OM.
 struct PlannedRun {
@@ -132,7 +135,11 @@ void runDataset(const ScanSet& set, const BenchOptions& o, const std::vector<Pla
       std::snprintf(title, sizeof title, "run %d/%d %s %.2f m %s side by side with %s", ++run_index,
                     total_runs, set.name.c_str(), resolution, r.label.c_str(),
                     one->label().c_str());
-      const int repeats = std::max(o.repeats, kMinPairedRepeats);
+      double replay_seconds = 0;  // of the multi-thread run alone
+      for (const double s : r.scan_seconds) replay_seconds += s;
+      replay_seconds /= std::max(r.repeats, 1);
+      const int repeats = pairedRepeats(replay_seconds, std::max(o.repeats, kMinPairedRepeats),
+                                        kMinPairedSeconds);
       progress.start(title, 2 * set.scans.size() * size_t(repeats));
       const PairedSeconds paired = runPaired(*one, *many, set, repeats, progress);
       if (paired.second > 0) r.paired_speedup = paired.first / paired.second;

@@ -83,3 +83,13 @@ TEST(PairedRuns, BothSystemsSeeEveryScanInOrderTakingShortAlternatingTurns) {
     EXPECT_EQ(turns[k].second.size(), expected_size) << "turn " << k;
   }
 }
+
+TEST(PairedRuns, ShortReplaysArePooledUntilTheFasterSideHasRunLongEnough) {
+  using ndtom::bench::pairedRepeats;
+  EXPECT_EQ(pairedRepeats(0.3, 3, 2.5), 9);   // ceil(2.5 / 0.3)
+  EXPECT_EQ(pairedRepeats(1.0, 3, 2.5), 3);   // the minimum wins
+  EXPECT_EQ(pairedRepeats(0.5, 3, 2.5), 5);   // exactly 2.5 s
+  EXPECT_EQ(pairedRepeats(0.05, 1, 2.5), 50);
+  EXPECT_EQ(pairedRepeats(1e-9, 3, 2.5), 100);  // capped
+  EXPECT_EQ(pairedRepeats(0.0, 4, 2.5), 4);     // nothing timed: the minimum
+}
