@@ -127,58 +127,6 @@ TEST(NdtMapOccupancy, ClampingBoundsLogOdds) {
   EXPECT_FALSE(map.cell({3, 0, 0})->stats);
 }
 
-// Free counts are 16-bit and saturate: counts above 32767 stay exact, and any count that
-// saturates still empties the cell exactly as the full count would (kMaxFreeRaysToEmpty).
-TEST(NdtMapOccupancy, FreeCountsBeyondSixteenBitsAreExact) {
-  MapOptions o = unitGrid();
-  const double rays_to_empty = 64000;  // just under the supported limit
-  const double miss = -(o.occupancy.logodds_max - o.occupancy.logodds_min) / rays_to_empty;
-  o.occupancy.p_miss = std::exp(miss) / (1 + std::exp(miss));
-  const double lo = o.occupancy.logodds_min, hi = o.occupancy.logodds_max;
-  const Vector3d origin(0.5, 0.5, 0.5);
-  auto pointsInCell = [](int x, int n) {  // spread in cell (x,0,0), on the ray's axis
-    std::vector<Vector3d> pts;
-    for (int i = 0; i < n; ++i) pts.emplace_back(x + 0.1 + 0.8 * (i % 997) / 997.0, 0.5, 0.5);
-    return pts;
-  };
-  for (const auto mode : {ndtom::RayMode::PerPoint, ndtom::RayMode::PerHitCell}) {
-    for (const int threads : {1, 2}) {
-      SCOPED_TRACE(std::string(ndtom::toString(mode)) + ", threads " + std::to_string(threads));
-      o.insertion.ray_mode = mode;
-      o.insertion.threads = threads;
-      NdtMap map(o);
-      map.insertScan(pointsInCell(2, 20), origin);
-      ASSERT_FLOAT_EQ(logOddsOf(map, {2, 0, 0}), float(hi));
-      // 40000 rays cross cell 2 (more than int16, fewer than the saturation).
-      map.insertScan(pointsInCell(3, 40000), origin);
-      const float after = float(std::clamp(double(float(hi)) + 40000 * miss, lo, hi));
-      ASSERT_GT(after, 0.f);
-      EXPECT_FLOAT_EQ(logOddsOf(map, {2, 0, 0}), after);
-      // 65600 rays: the count saturates at 65535 and the cell is emptied all the same.
-      map.insertScan(pointsInCell(2, 20), origin);
-      map.insertScan(pointsInCell(3, 65600), origin);
-      EXPECT_FLOAT_EQ(logOddsOf(map, {2, 0, 0}), float(lo));
-      EXPECT_FALSE(map.cell({2, 0, 0})->stats);
-      EXPECT_EQ(map.cell({3, 0, 0})->stats->n, 40000u + 65600u);
-    }
-  }
-}
-
-TEST(NdtMapOccupancy, MissProbabilityTooCloseToHalfIsRejected) {
-  ndtom::OccupancyOptions o;
-  o.p_miss = 0.49999;  // 137500 free rays to empty a cell from logodds_max
-  try {
-    ndtom::validate(o);
-    FAIL() << "accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("p_miss"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("65000"), std::string::npos) << e.what();
-  }
-  o.logodds_min = -0.5;  // a narrower range makes it usable
-  o.logodds_max = 0.5;
-  EXPECT_NO_THROW(ndtom::validate(o));
-}
-
 // A box that leaves (later rays pass through it) loses its Gaussians; one that appears gets them.
 TEST(NdtMapOccupancy, DynamicObjectsDisappearAndAppear) {
   NdtMap map(unitGrid());

@@ -7,7 +7,7 @@
 namespace ndtom {
 namespace {
 
-[[noreturn]] void fail(const char* option, double value, const std::string& why) {
+[[noreturn]] void fail(const char* option, double value, const char* why) {
   std::ostringstream msg;
   msg << option << " = " << value << ": " << why;
   throw std::invalid_argument(msg.str());
@@ -48,16 +48,6 @@ void validate(const OccupancyOptions& o) {
     fail("logodds_min", o.logodds_min, "must be finite and < 0");
   if (!(std::isfinite(o.logodds_max) && o.logodds_max > 0))
     fail("logodds_max", o.logodds_max, "must be finite and > 0");
-  const double rays_to_empty = (o.logodds_max - o.logodds_min) / -o.missLogOdds();
-  if (!(rays_to_empty <= kMaxFreeRaysToEmpty)) {
-    std::ostringstream why;
-    why << "with logodds_min = " << o.logodds_min << " and logodds_max = " << o.logodds_max
-        << ", " << std::ceil(rays_to_empty) << " free rays are needed to empty a cell; at most "
-        << kMaxFreeRaysToEmpty
-        << " are supported (per-scan free counts are 16-bit). Choose p_miss further from 0.5 "
-           "or a narrower log-odds range";
-    fail("p_miss", o.p_miss, why.str());
-  }
 }
 
 void validate(const InsertOptions& o) {

@@ -11,21 +11,14 @@
 #include <vector>
 
 #include "ndtom/block_grid.h"
-#include "ndtom/options.h"
 
 namespace ndtom {
 
-/// Counters are read in groups of 8 (16 bytes), most of which are zero.
+/// Counters are read in groups of 8 (32 bytes), most of which are zero.
 inline constexpr int kCountGroup = 8;
 
-/// 16 bits, saturating: half the memory of 32-bit counters, the tables the tracing threads
-/// fill being larger than a core's L2 cache. Exact: see kMaxFreeRaysToEmpty.
-using FreeCount = uint16_t;
-inline constexpr uint32_t kMaxFreeCount = UINT16_MAX;
-static_assert(kMaxFreeRaysToEmpty < kMaxFreeCount, "a saturated count must empty any cell");
-
 struct CountBlock {
-  std::array<FreeCount, kBlockCells> count;
+  std::array<uint32_t, kBlockCells> count;
   CellIndex index;  ///< block coordinates, while the block is in use this scan
   /// Face neighbours in use this scan, [2 * axis + (step > 0)]; null until first followed.
   std::array<CountBlock*, 6> neighbour;
@@ -80,7 +73,7 @@ class alignas(64) ScanCounts {  // one per thread: no shared cache line
   /// After every block was zeroed by zeroBlock().
   void reset() {
     // Erasing entry by entry would break linear-probe chains; the table is small (16 bytes
-    // per slot, under 4 slots per 1 KiB block), so wipe it whole.
+    // per slot, under 4 slots per 2 KiB block), so wipe it whole.
     std::fill(table_.begin(), table_.end(), Entry{});
     used_.clear();
   }
@@ -142,15 +135,14 @@ class alignas(64) ScanCounts {  // one per thread: no shared cache line
   std::vector<CellIndex> used_;
 };
 
-/// The ray walker of the free-space pass (see walkRay): adds `weight` to every cell visited,
-/// saturating.
+/// The ray walker of the free-space pass (see walkRay): adds `weight` to every cell visited.
 /// It follows the walk incrementally as a block and an offset in it, so a visit is an
 /// increment and leaving a block follows a neighbour link. The state is a few scalars and no
 /// member's address leaves the walker, so the compiler can keep it in registers.
 class CountingWalker {
  public:
   explicit CountingWalker(ScanCounts& counts) : counts_(&counts) {}
-  void setWeight(uint32_t w) { weight_ = std::min(w, kMaxFreeCount); }  // c + w must not wrap
+  void setWeight(uint32_t w) { weight_ = w; }
   size_t visits() const { return visits_; }
 
   void start(const CellIndex& c) {
@@ -174,8 +166,7 @@ class CountingWalker {
   }
 
   bool visit() {
-    FreeCount& c = block_->count[size_t(offset_)];
-    c = FreeCount(std::min(c + weight_, kMaxFreeCount));
+    block_->count[size_t(offset_)] += weight_;
     ++visits_;
     return true;
   }

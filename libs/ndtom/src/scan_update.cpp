@@ -22,31 +22,19 @@ constexpr size_t kMinGroupsPerThread = 2048;
 constexpr size_t kMinBlocksPerThread = 32;
 
 /// Bit k set if count[k] != 0, for the kCountGroup counters at `count`.
-inline uint32_t crossedCells(const FreeCount* count) {
-  static_assert(kCountGroup == 8 && sizeof(FreeCount) == 2, "one SSE2 load per group");
+inline uint32_t crossedCells(const uint32_t* count) {
+  static_assert(kCountGroup == 8, "two SSE2 loads per group");
 #if defined(__SSE2__)
   const __m128i zero = _mm_setzero_si128();
-  const __m128i group = _mm_loadu_si128(reinterpret_cast<const __m128i*>(count));
-  const __m128i is_zero = _mm_cmpeq_epi16(group, zero);
-  return ~uint32_t(_mm_movemask_epi8(_mm_packs_epi16(is_zero, zero))) & 0xffu;
+  const __m128i low = _mm_loadu_si128(reinterpret_cast<const __m128i*>(count));
+  const __m128i high = _mm_loadu_si128(reinterpret_cast<const __m128i*>(count + 4));
+  const int zero_low = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(low, zero)));
+  const int zero_high = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(high, zero)));
+  return ~uint32_t(zero_low | zero_high << 4) & 0xffu;
 #else
   uint32_t crossed = 0;
   for (int k = 0; k < kCountGroup; ++k) crossed |= uint32_t(count[k] != 0) << k;
   return crossed;
-#endif
-}
-
-/// sum[k] += add[k] for a block's counters, saturating at kMaxFreeCount.
-inline void addSaturated(const FreeCount* add, FreeCount* sum) {
-#if defined(__SSE2__)
-  for (int k = 0; k < kBlockCells; k += 8) {
-    auto* s = reinterpret_cast<__m128i*>(sum + k);
-    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(add + k));
-    _mm_store_si128(s, _mm_adds_epu16(_mm_load_si128(s), a));
-  }
-#else
-  for (int k = 0; k < kBlockCells; ++k)
-    sum[k] = FreeCount(std::min(uint32_t(sum[k]) + add[k], kMaxFreeCount));
 #endif
 }
 
@@ -522,16 +510,16 @@ void ScanUpdater::applyFreeCounts(size_t begin, size_t end, ScanScratch::ApplyPa
   const double miss = map_.options().occupancy.missLogOdds();
   const size_t others = s_.counts_used - 1;
   ScanCounts& merged = s_.counts[0];
-  alignas(64) std::array<FreeCount, kBlockCells> sum;
+  alignas(64) std::array<uint32_t, kBlockCells> sum;
   for (size_t b = begin; b < end; ++b) {
     // With several tables the sum goes to a local buffer: the tables are only read here, so
     // their cache lines stay with the threads that count into them.
-    const FreeCount* count = merged.block(b).count.data();
+    const uint32_t* count = merged.block(b).count.data();
     if (others > 0) {
       std::copy_n(count, kBlockCells, sum.data());
       for (size_t t = 0; t < others; ++t)
         if (const CountBlock* other = s_.other_counts[b * others + t])
-          addSaturated(other->count.data(), sum.data());
+          for (int k = 0; k < kBlockCells; ++k) sum[size_t(k)] += other->count[size_t(k)];
       count = sum.data();
     }
     NdtMap::Block& block = *s_.map_blocks[b];

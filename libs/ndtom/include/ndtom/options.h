@@ -1,7 +1,6 @@
 // Options of an NDT-OM map. validate() rejects bad values with a message naming the option.
 #pragma once
 
-#include <cstdint>
 #include <limits>
 #include <string>
 
@@ -21,17 +20,11 @@ const char* toString(RayMode mode);
 /// Accepts "per_point"/"PerPoint"/"0" and "per_hit_cell"/"PerHitCell"/"1"; throws otherwise.
 RayMode rayModeFromString(const std::string& text);
 
-/// validate() requires that at most this many free rays take a cell from logodds_max to
-/// logodds_min. A scan's free-ray counts are 16-bit and saturate at 65535 (half the memory
-/// the tracing threads share), so any count above this limit gives the same, exact, update.
-inline constexpr uint32_t kMaxFreeRaysToEmpty = 65000;
-
 /// Occupancy update of Eq. 12.
 struct OccupancyOptions {
   bool enabled = true;   ///< false gives the paper's "Recursive NDT" (no rays, no removal)
   double p_hit = 0.6;    ///< p_o: occupancy probability of a cell with hits (Default: 0.6)
-  double p_miss = 0.49;  ///< p_e: occupancy probability of a cell a ray crosses (Default: 0.49);
-                         ///< see kMaxFreeRaysToEmpty
+  double p_miss = 0.49;  ///< p_e: occupancy probability of a cell a ray crosses (Default: 0.49)
   double logodds_min = -2.0;  ///< lower clamp (Default: -2.0, 50 free rays from 0 at p_e=0.49)
   double logodds_max = 3.5;   ///< upper clamp (Default: 3.5, 88 free rays to empty a cell)
 
