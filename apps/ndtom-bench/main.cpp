@@ -135,9 +135,7 @@ void runDataset(const ScanSet& set, const BenchOptions& o, const std::vector<Pla
       std::snprintf(title, sizeof title, "run %d/%d %s %.2f m %s side by side with %s", ++run_index,
                     total_runs, set.name.c_str(), resolution, r.label.c_str(),
                     one->label().c_str());
-      double replay_seconds = 0;  // of the multi-thread run alone
-      for (const double s : r.scan_seconds) replay_seconds += s;
-      replay_seconds /= std::max(r.repeats, 1);
+      const double replay_seconds = r.totalSeconds() / std::max(r.repeats, 1);  // t > 1 alone
       const int repeats = pairedRepeats(replay_seconds, std::max(o.repeats, kMinPairedRepeats),
                                         kMinPairedSeconds);
       progress.start(title, 2 * set.scans.size() * size_t(repeats));

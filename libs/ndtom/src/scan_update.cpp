@@ -370,7 +370,6 @@ void ScanUpdater::allocateForApply() {
   const size_t tables = s_.counts_used;
   ScanCounts& merged = s_.counts[0];
   s_.created_blocks.clear();
-  s_.traced_blocks = merged.numBlocks();
   try {
     for (size_t t = 1; t < tables; ++t)
       for (size_t i = 0; i < s_.counts[t].numBlocks(); ++i)
@@ -459,6 +458,7 @@ void ScanUpdater::applyToMap() {
           counts->count[size_t(w * 64 + __builtin_ctzll(bits))] = 0;
     }
   });
+  const size_t traced_blocks = s_.counts[0].numBlocks();  // before the others merge into it
   allocateForApply();
 
   auto collect = [&](size_t threads) {
@@ -496,7 +496,7 @@ void ScanUpdater::applyToMap() {
     if (tables == 1)
       s_.counts[t].reset();  // applyFreeCounts zeroed its blocks
     else if (t == 0)
-      s_.counts[t].clear(s_.traced_blocks);  // blocks merged in after the walk stayed zero
+      s_.counts[t].clear(traced_blocks);  // blocks merged in after the walk stayed zero
     else
       s_.counts[t].clear();
   });

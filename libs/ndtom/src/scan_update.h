@@ -43,7 +43,6 @@ struct ScanScratch {
   std::vector<EndGroup> groups;
   std::vector<ScanCounts> counts;         ///< one per tracing thread; counts[0] also gets the union
   size_t counts_used = 1;                 ///< tables filled by this scan's tracing (>= 1)
-  size_t traced_blocks = 0;  ///< counts[0]'s blocks before the others' were merged into it
   std::vector<CountBlock*> other_counts;  ///< [block * (counts_used-1) + t-1], or nullptr
   std::vector<NdtMap::Block*> map_blocks;  ///< the map's block of each counts[0] block
   std::vector<size_t> new_blocks;          ///< counts[0] blocks the map lacks, to create
