@@ -211,6 +211,39 @@ TEST(NdtMapRecursive, WithoutOccupancyEqualsBatchOfAllPoints) {
   }
 }
 
+TEST(NdtMapRecursive, EndsKilometresApartEqualBatchForAnyThreadCount) {
+  // Ends 52 km apart on every axis at 1 m: a dense key over their box (49 bits) and the index
+  // of one of 70,000 points (17 bits) do not fit one word, so blocks are numbered as met.
+  MapOptions o = unitGrid();
+  o.occupancy.enabled = false;  // 26 km rays would take long to trace
+  std::mt19937 rng(8);
+  std::normal_distribution<double> spread(0.0, 0.6);
+  std::vector<Vector3d> points;
+  const std::vector<Vector3d> centres{{-26000, -26000, -26000}, {26000, 26000, 26000},
+                                      {26000, -26000, 5}, {3.5, 2.5, -1.5}, {-12000, 9000, 2}};
+  for (int i = 0; i < 70000; ++i)
+    points.push_back(centres[size_t(i) % centres.size()] +
+                     Vector3d(spread(rng), spread(rng), spread(rng)));
+  const auto batch = ndtom::batchNdt(points, ndtom::GridGeometry(o.resolution));
+  std::vector<std::vector<uint8_t>> encoded;
+  for (const int threads : {1, 2}) {
+    o.insertion.threads = threads;
+    NdtMap map(o);
+    const auto report = map.insertScan(points, Vector3d::Zero());
+    ASSERT_EQ(report.hits, points.size());
+    ASSERT_EQ(map.numCells(), batch.size());
+    for (const auto& [index, expected] : batch) {
+      const auto cell = map.cell(index);
+      ASSERT_TRUE(cell && cell->stats);
+      ASSERT_EQ(cell->stats->n, expected.n);
+      ASSERT_LT((cell->stats->mean - expected.mean).norm(), 1e-9);  // km-size coordinates
+      ASSERT_LT((cell->stats->scatter - expected.scatter).norm(), 1e-9);
+    }
+    encoded.push_back(ndtom::encodeMap(map));
+  }
+  EXPECT_EQ(encoded[0], encoded[1]);
+}
+
 TEST(NdtMapInput, BadPointsAreCountedAndChangeNothingElse) {
   MapOptions o;
   o.resolution = 0.5;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <stdexcept>
+#include <string>
+#include <unordered_map>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -38,6 +40,13 @@ inline uint32_t crossedCells(const uint32_t* count) {
 #endif
 }
 
+/// Bits needed to write `max_value` (at least 1).
+inline int bitsFor(uint64_t max_value) {
+  int bits = 1;
+  while (bits < 64 && (max_value >> bits) != 0) ++bits;
+  return bits;
+}
+
 inline void widen(CellIndex& lo, CellIndex& hi, const CellIndex& c) {
   lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
   hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
@@ -57,6 +66,8 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
   origin_ = origin;
   report_ = InsertionReport{};
   report_.points_in = points.size();
+  if (points.size() > UINT32_MAX)
+    throw std::invalid_argument("insertScan: more than 2^32 points in one scan; split it");
   if (s_.counts.empty()) s_.counts.resize(1);  // counts[0] is the union even without tracing
   s_.counts_used = 1;
 
@@ -169,30 +180,36 @@ void ScanUpdater::groupEndsByCell() {
   group_means_ready_ = false;
   const size_t used = report_.pointsUsed();
   if (used == 0) return;
-  // Block-major dense index within the ends' bounding box, so each block's groups are
-  // contiguous (threads can own whole blocks); under 2^14 blocks per axis, because rays are
-  // at most kMaxRayCells long.
+  // Cells keyed by a block-major dense index within the ends' bounding box, so each block's
+  // groups are contiguous (threads can own whole blocks); under 2^14 blocks per axis, because
+  // rays are at most kMaxRayCells long.
+  point_bits_ = bitsFor(s_.kinds.size() - 1);
+  point_mask_ = (uint64_t(1) << point_bits_) - 1;
   const CellIndex lo = blockOf(ends_lo_), hi = blockOf(ends_hi_);
   const uint64_t nx = uint64_t(hi.x - lo.x) + 1, ny = uint64_t(hi.y - lo.y) + 1;
   const uint64_t nz = uint64_t(hi.z - lo.z) + 1;
+  int key_bits = bitsFor(2 * kBlockCells * nx * ny * nz - 1);
   s_.ray_ends.resize(used);
-  s_.pool.run(classify_threads_, [&](size_t t) {  // the chunks of classifyPoints
-    const auto [begin, end] = partRange(s_.kinds.size(), classify_threads_, t);
-    size_t k = s_.part_offsets[t];
-    for (size_t i = begin; i < end; ++i) {
-      if (s_.kinds[i] == PointKind::kRejected) continue;
-      const CellIndex& c = s_.end_cells[i];
-      const CellIndex b = blockOf(c);
-      const uint64_t block =
-          (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
-      const uint64_t dense = block * kBlockCells + uint64_t(offsetInBlock(c));
-      s_.ray_ends[k++] = {dense << 1 | (s_.kinds[i] == PointKind::kHit ? 1u : 0u), uint32_t(i)};
-    }
-  });
-  int key_bits = 1;
-  while (key_bits < 64 && (uint64_t(1) << key_bits) < 2 * kBlockCells * nx * ny * nz) ++key_bits;
+  if (key_bits + point_bits_ <= 64) {
+    s_.pool.run(classify_threads_, [&](size_t t) {  // the chunks of classifyPoints
+      const auto [begin, end] = partRange(s_.kinds.size(), classify_threads_, t);
+      size_t k = s_.part_offsets[t];
+      for (size_t i = begin; i < end; ++i) {
+        if (s_.kinds[i] == PointKind::kRejected) continue;
+        const CellIndex& c = s_.end_cells[i];
+        const CellIndex b = blockOf(c);
+        const uint64_t block =
+            (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
+        const uint64_t dense = block * kBlockCells + uint64_t(offsetInBlock(c));
+        const uint64_t key = dense << 1 | (s_.kinds[i] == PointKind::kHit ? 1u : 0u);
+        s_.ray_ends[k++] = key << point_bits_ | i;
+      }
+    });
+  } else {
+    key_bits = keyEndsByBlockRank();
+  }
   const size_t threads = threadsFor(used, kMinPointsPerThread);
-  radixSortByKey(s_.ray_ends, s_.sort_buffer, key_bits, s_.pool, threads);
+  radixSortByBits(s_.ray_ends, s_.sort_buffer, point_bits_, key_bits, s_.pool, threads);
   // Groups are runs of equal keys. Threads split the sorted ends at run boundaries; each
   // gathers its ends (independent loads, instead of a dependent walk per group later) and
   // counts its runs, then fills its part of the group list.
@@ -201,7 +218,7 @@ void ScanUpdater::groupEndsByCell() {
   starts[0] = 0;
   for (size_t t = 1; t < threads; ++t) {
     size_t start = std::max(partRange(used, threads, t).first, starts[t - 1]);
-    while (start > 0 && start < used && s_.ray_ends[start].key == s_.ray_ends[start - 1].key)
+    while (start > 0 && start < used && keyOf(s_.ray_ends[start]) == keyOf(s_.ray_ends[start - 1]))
       ++start;
     starts[t] = start;
   }
@@ -209,12 +226,12 @@ void ScanUpdater::groupEndsByCell() {
     constexpr size_t kAhead = 16;  // the loads are random: start them early
     const size_t begin = starts[t], end = starts[t + 1];
     for (size_t i = begin; i < end; ++i) {
-      if (i + kAhead < end) __builtin_prefetch(&s_.ends[s_.ray_ends[i + kAhead].point]);
-      s_.sorted_ends[i] = s_.ends[s_.ray_ends[i].point];
+      if (i + kAhead < end) __builtin_prefetch(&s_.ends[pointOf(s_.ray_ends[i + kAhead])]);
+      s_.sorted_ends[i] = s_.ends[pointOf(s_.ray_ends[i])];
     }
     size_t count = 0;
     for (size_t i = begin; i < end; ++i)
-      count += i == begin || s_.ray_ends[i].key != s_.ray_ends[i - 1].key;
+      count += i == begin || keyOf(s_.ray_ends[i]) != keyOf(s_.ray_ends[i - 1]);
     runs[t + 1] = count;
   });
   for (size_t t = 0; t < threads; ++t) runs[t + 1] += runs[t];
@@ -225,9 +242,9 @@ void ScanUpdater::groupEndsByCell() {
     size_t group = runs[t];
     for (size_t i = starts[t]; i < starts[t + 1]; ++group) {
       EndGroup& g = s_.groups[group];
-      const uint64_t key = s_.ray_ends[i].key;
+      const uint64_t key = keyOf(s_.ray_ends[i]);
       g.begin = uint32_t(i);
-      while (i < starts[t + 1] && s_.ray_ends[i].key == key) ++i;
+      while (i < starts[t + 1] && keyOf(s_.ray_ends[i]) == key) ++i;
       g.count = uint32_t(i - g.begin);
       g.hit = (key & 1) != 0;
       // The cell again from the sorted end (read in a row), not end_cells (a random access).
@@ -247,7 +264,7 @@ void ScanUpdater::groupEndsByCell() {
   for (size_t group = 0; group < s_.groups.size(); ++group) {
     if (!s_.groups[group].hit) continue;
     ++report_.cells_hit;
-    const uint64_t dense = s_.ray_ends[s_.groups[group].begin].key >> 1;
+    const uint64_t dense = keyOf(s_.ray_ends[s_.groups[group].begin]) >> 1;
     const uint64_t block = dense / kBlockCells;
     if (s_.hit_blocks.empty() || block != last_hit_block) {
       s_.hit_blocks.push_back({group, 0, nullptr, {}, {}});
@@ -258,6 +275,34 @@ void ScanUpdater::groupEndsByCell() {
     const uint64_t offset = dense % kBlockCells;
     h.hits[offset / 64] |= uint64_t(1) << (offset % 64);
   }
+}
+
+// Keys for ends so far apart that a dense index in their box does not fit a word with the
+// point index (thousands of km at fine resolution: glitches): blocks numbered in the order the
+// points meet them instead, one thread. Returns the key bits.
+int ScanUpdater::keyEndsByBlockRank() {
+  std::unordered_map<CellIndex, uint64_t, CellIndexHash> rank_of_block;
+  CellIndex last_block{};
+  uint64_t last_rank = UINT64_MAX;  // consecutive points mostly share a block
+  size_t k = 0;
+  for (size_t i = 0; i < s_.kinds.size(); ++i) {
+    if (s_.kinds[i] == PointKind::kRejected) continue;
+    const CellIndex& c = s_.end_cells[i];
+    const CellIndex b = blockOf(c);
+    if (last_rank == UINT64_MAX || b != last_block) {
+      last_rank = rank_of_block.try_emplace(b, rank_of_block.size()).first->second;
+      last_block = b;
+    }
+    const uint64_t dense = last_rank * kBlockCells + uint64_t(offsetInBlock(c));
+    const uint64_t key = dense << 1 | (s_.kinds[i] == PointKind::kHit ? 1u : 0u);
+    s_.ray_ends[k++] = key << point_bits_ | i;
+  }
+  const int key_bits = bitsFor(2 * kBlockCells * rank_of_block.size() - 1);
+  if (key_bits + point_bits_ > 64)  // over 2^27 points, spread over kilometres
+    throw std::invalid_argument("insertScan: " + std::to_string(s_.kinds.size()) +
+                                " points spread over " + std::to_string(rank_of_block.size()) +
+                                " blocks are too many for one scan; split it");
+  return key_bits;
 }
 
 // Two-pass statistics (Eq. 1) of a group's points, relative to its cell's centre.

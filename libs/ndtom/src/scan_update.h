@@ -10,13 +10,6 @@
 
 namespace ndtom {
 
-/// Where a used point's ray ends (a hit, or the max-range end of a truncated ray), keyed by
-/// its cell so that sorting groups the ends of each cell together.
-struct RayEnd {
-  uint64_t key;    ///< block-major dense index of its cell in the ends' box, times 2, plus `hit`
-  uint32_t point;  ///< index of the input point (into ScanScratch::ends)
-};
-
 /// Rays that end in one cell: the unit of Eq. 12's N_p and of the per-hit-cell ray mode.
 struct EndGroup {
   CellIndex cell;
@@ -37,7 +30,11 @@ struct ScanScratch {
   std::vector<PointKind> kinds;
   std::vector<Eigen::Vector3d> ends;
   std::vector<CellIndex> end_cells;
-  std::vector<RayEnd> ray_ends, sort_buffer;
+  /// Where each used point's ray ends (a hit, or the max-range end of a truncated ray), as
+  /// one word: its cell's key (block number * kBlockCells + offset in the block, times 2, plus
+  /// 1 for a hit) above the point's index into `ends`. Sorted by key, the ends of a cell are
+  /// together, a block's cells in a row and in offset order.
+  std::vector<uint64_t> ray_ends, sort_buffer;
   std::vector<size_t> part_offsets;  ///< where each classification chunk's ends start in ray_ends
   std::vector<Eigen::Vector3d> sorted_ends;  ///< ends in ray_ends' order: groups read them in a row
   std::vector<EndGroup> groups;
@@ -76,6 +73,9 @@ class ScanUpdater {
  private:
   void classifyPoints(const std::vector<Eigen::Vector3d>& points);
   void groupEndsByCell();
+  int keyEndsByBlockRank();
+  uint64_t keyOf(uint64_t ray_end) const { return ray_end >> point_bits_; }
+  size_t pointOf(uint64_t ray_end) const { return size_t(ray_end & point_mask_); }
   void traceFreeRays();
   void applyToMap();
   void allocateForApply();
@@ -93,6 +93,8 @@ class ScanUpdater {
   Eigen::Vector3d origin_;
   CellIndex ends_lo_, ends_hi_;     ///< bounding box of the ray ends' cells
   bool group_means_ready_ = false;  ///< EndGroup::mean and mean_end are computed
+  int point_bits_ = 1;              ///< low bits of a ray_ends word that hold the point
+  uint64_t point_mask_ = 1;
   size_t classify_threads_ = 1, apply_threads_ = 1, hit_threads_ = 1;
 };
 
