@@ -56,7 +56,9 @@ void validate(const InsertOptions& o) {
   if (!(o.max_range > 0) || std::isnan(o.max_range))
     fail("max_range", o.max_range, "must be > 0 (inf for no limit)");
   if (!(o.max_range > o.min_range)) fail("max_range", o.max_range, "must be > min_range");
-  if (!(o.threads >= 1 && o.threads <= 256)) fail("threads", o.threads, "must be in [1, 256]");
+  static_assert(InsertOptions::kMaxThreads == 256, "the message below");
+  if (!(o.threads >= 1 && o.threads <= InsertOptions::kMaxThreads))
+    fail("threads", o.threads, "must be in [1, 256]");
   if (o.ray_mode != RayMode::PerPoint && o.ray_mode != RayMode::PerHitCell)
     fail("ray_mode", double(int(o.ray_mode)), "unknown ray mode");
 }

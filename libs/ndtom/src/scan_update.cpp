@@ -132,36 +132,44 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
   const double inv_resolution = geometry.invResolution();
   const double min_range = options_.min_range, max_range = options_.max_range;
   const double far_limit = kMaxRayCells * geometry.resolution();
+  classify_threads_ = threads;
   s_.pool.run(threads, [&](size_t t) {
     Part& part = parts[t];
-    const auto [begin, end] = partRange(n, threads, t);
     size_t hits = 0;
     CellIndex lo = part.lo, hi = part.hi;  // in registers, not stored per point
-    for (size_t i = begin; i < end; ++i) {
-      const Eigen::Vector3d& p = points[i];
-      const Eigen::Vector3d scaled = p * inv_resolution;
-      const double range = (p - origin_).norm();
-      // Most points are plain hits: one test of all of classifyPoint's conditions, in
-      // registers (|scaled| < limit is false for NaN and inf too).
-      if (scaled.cwiseAbs().maxCoeff() < double(kMaxCellIndex - 1) && range > 0.0 &&
-          range >= min_range && range <= max_range && range <= far_limit) {
-        ++hits;
-        s_.kinds[i] = PointKind::kHit;
-        s_.ends[i] = p;
-        s_.end_cells[i] = GridGeometry::floorCell(scaled);
-      } else {
-        s_.kinds[i] = classifyPoint(p, s_.ends[i], part.report);
-        if (s_.kinds[i] == PointKind::kRejected) continue;
-        s_.end_cells[i] = geometry.cellOf(s_.ends[i]);
+    const auto [first_piece, last_piece] = partRange(kRayPieces, threads, t);
+    for (size_t piece = first_piece; piece < last_piece; ++piece) {
+      const auto [begin, end] = partRange(n, kRayPieces, piece);
+      double length = 0;
+      for (size_t i = begin; i < end; ++i) {
+        const Eigen::Vector3d& p = points[i];
+        const Eigen::Vector3d scaled = p * inv_resolution;
+        const Eigen::Vector3d ray = p - origin_;
+        const double range = ray.norm();
+        // Most points are plain hits: one test of all of classifyPoint's conditions, in
+        // registers (|scaled| < limit is false for NaN and inf too).
+        if (scaled.cwiseAbs().maxCoeff() < double(kMaxCellIndex - 1) && range > 0.0 &&
+            range >= min_range && range <= max_range && range <= far_limit) {
+          ++hits;
+          s_.kinds[i] = PointKind::kHit;
+          s_.ends[i] = p;
+          s_.end_cells[i] = GridGeometry::floorCell(scaled);
+          length += ray.lpNorm<1>();
+        } else {
+          s_.kinds[i] = classifyPoint(p, s_.ends[i], part.report);
+          if (s_.kinds[i] == PointKind::kRejected) continue;
+          s_.end_cells[i] = geometry.cellOf(s_.ends[i]);
+          length += (s_.ends[i] - origin_).lpNorm<1>();
+        }
+        widen(lo, hi, s_.end_cells[i]);
       }
-      widen(lo, hi, s_.end_cells[i]);
+      piece_lengths_[piece] = length;
     }
     part.lo = lo, part.hi = hi;
     part.report.hits += hits;
   });
   ends_lo_ = parts[0].lo;
   ends_hi_ = parts[0].hi;
-  classify_threads_ = threads;
   s_.part_offsets.assign(1, 0);
   for (const Part& part : parts) {
     s_.part_offsets.push_back(s_.part_offsets.back() + part.report.pointsUsed());
@@ -169,6 +177,12 @@ void ScanUpdater::classifyPoints(const std::vector<Eigen::Vector3d>& points) {
     widen(ends_lo_, ends_hi_, part.lo);
     widen(ends_lo_, ends_hi_, part.hi);
   }
+}
+
+std::pair<size_t, size_t> ScanUpdater::classifyChunk(size_t t) const {
+  const size_t n = s_.kinds.size();
+  const auto [first_piece, last_piece] = partRange(kRayPieces, classify_threads_, t);
+  return {partRange(n, kRayPieces, first_piece).first, partRange(n, kRayPieces, last_piece).first};
 }
 
 // Step 2: gather the ray ends per cell; a hit group's points give N_p and the batch that
@@ -192,7 +206,7 @@ void ScanUpdater::groupEndsByCell() {
   s_.ray_ends.resize(used);
   if (key_bits + point_bits_ <= 64) {
     s_.pool.run(classify_threads_, [&](size_t t) {  // the chunks of classifyPoints
-      const auto [begin, end] = partRange(s_.kinds.size(), classify_threads_, t);
+      const auto [begin, end] = classifyChunk(t);
       size_t k = s_.part_offsets[t];
       for (size_t i = begin; i < end; ++i) {
         if (s_.kinds[i] == PointKind::kRejected) continue;
@@ -352,22 +366,25 @@ void ScanUpdater::traceFreeRays() {
   std::vector<size_t> bounds(threads + 1, items);
   bounds[0] = 0;
   if (threads > 1) {
-    constexpr size_t kPieces = 64;  // the split's granularity
-    std::vector<double> cost(kPieces + 1, 0.0);
-    s_.pool.run(threads, [&](size_t t) {
-      const auto [first, last] = partRange(kPieces, threads, t);
-      for (size_t piece = first; piece < last; ++piece) {
-        const auto [begin, end] = partRange(items, kPieces, piece);
-        double sum = 0;
-        for (size_t i = begin; i < end; ++i)
-          if (const Eigen::Vector3d* e = rayEnd(i)) sum += (*e - origin_).lpNorm<1>();
-        cost[piece + 1] = sum;
-      }
-    });
-    for (size_t piece = 0; piece < kPieces; ++piece) cost[piece + 1] += cost[piece];
+    std::vector<double> cost(kRayPieces + 1, 0.0);  // [piece + 1]: lengths up to its end
+    if (per_point) {
+      std::copy(piece_lengths_.begin(), piece_lengths_.end(), cost.begin() + 1);
+    } else {
+      s_.pool.run(threads, [&](size_t t) {
+        const auto [first, last] = partRange(kRayPieces, threads, t);
+        for (size_t piece = first; piece < last; ++piece) {
+          const auto [begin, end] = partRange(items, kRayPieces, piece);
+          double sum = 0;
+          for (size_t i = begin; i < end; ++i) sum += (*rayEnd(i) - origin_).lpNorm<1>();
+          cost[piece + 1] = sum;
+        }
+      });
+    }
+    for (size_t piece = 0; piece < kRayPieces; ++piece) cost[piece + 1] += cost[piece];
     for (size_t t = 1, piece = 0; t < threads; ++t) {
-      while (piece < kPieces && cost[piece] < cost[kPieces] * double(t) / double(threads)) ++piece;
-      bounds[t] = partRange(items, kPieces, piece).first;
+      while (piece < kRayPieces && cost[piece] < cost[kRayPieces] * double(t) / double(threads))
+        ++piece;
+      bounds[t] = partRange(items, kRayPieces, piece).first;
     }
   }
   struct alignas(64) Cursor {  // the next ray of a range; own cache line

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
+#include <utility>
 #include <vector>
 
 #include "ndtom/ndt_map.h"
@@ -71,7 +73,14 @@ class ScanUpdater {
   InsertionReport run(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& origin);
 
  private:
+  /// The points are cut in this many near-equal contiguous pieces: classification's threads
+  /// take whole pieces and sum each one's ray lengths, by which the free-ray pass shares the
+  /// rays among threads. Not fewer than the threads allowed.
+  static constexpr size_t kRayPieces = 256;
+  static_assert(kRayPieces >= size_t(InsertOptions::kMaxThreads), "a piece per thread");
+
   void classifyPoints(const std::vector<Eigen::Vector3d>& points);
+  std::pair<size_t, size_t> classifyChunk(size_t t) const;
   void groupEndsByCell();
   int keyEndsByBlockRank();
   uint64_t keyOf(uint64_t ray_end) const { return ray_end >> point_bits_; }
@@ -96,6 +105,8 @@ class ScanUpdater {
   int point_bits_ = 1;              ///< low bits of a ray_ends word that hold the point
   uint64_t point_mask_ = 1;
   size_t classify_threads_ = 1, apply_threads_ = 1, hit_threads_ = 1;
+  /// Per piece of the points, their rays' summed L1 lengths (what a walk costs).
+  std::array<double, kRayPieces> piece_lengths_{};
 };
 
 }  // namespace ndtom

@@ -39,9 +39,10 @@ struct InsertOptions {
                                                                ///< free ray truncated here and no
                                                                ///< hit (Default: no limit)
   RayMode ray_mode = RayMode::PerPoint;
-  /// Threads tracing free rays (Default: 1). The map does not depend on it: counts are
-  /// integers summed over threads. Not stored in map files.
+  /// Threads tracing free rays (Default: 1, at most kMaxThreads). The map does not depend on
+  /// it: counts are integers summed over threads. Not stored in map files.
   int threads = 1;
+  static constexpr int kMaxThreads = 256;
 };
 
 struct MapOptions {
