@@ -126,7 +126,7 @@ Only insertion is timed. Progress goes to stderr, the summary table to stdout.
   --max-range M            rays longer than M are truncated, for every system (default: 30)
   --repeats N              full runs per system and resolution; times are pooled (default: 1;
                            the side-by-side thread comparison runs at least 3, and at least
-                           2.5 s of the multi-thread side)
+                           6 s of the multi-thread side)
   --csv FILE               write one row per system, threads and resolution
   --plot PREFIX            write PREFIX_<dataset>.png: time per scan against resolution
   --quiet                  no progress output
