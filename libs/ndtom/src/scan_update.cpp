@@ -196,7 +196,7 @@ void ScanUpdater::groupEndsByCell() {
   if (used == 0) return;
   // Cells keyed by a block-major dense index within the ends' bounding box, so each block's
   // groups are contiguous (threads can own whole blocks); under 2^14 blocks per axis, because
-  // rays are at most kMaxRayCells long.
+  // rays are at most kMaxRayCells long. The key goes above the point's index in one word.
   point_bits_ = bitsFor(s_.kinds.size() - 1);
   point_mask_ = (uint64_t(1) << point_bits_) - 1;
   const CellIndex lo = blockOf(ends_lo_), hi = blockOf(ends_hi_);
