@@ -214,9 +214,7 @@ void ScanUpdater::groupEndsByCell() {
         const CellIndex b = blockOf(c);
         const uint64_t block =
             (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
-        const uint64_t dense = block * kBlockCells + uint64_t(offsetInBlock(c));
-        const uint64_t key = dense << 1 | (s_.kinds[i] == PointKind::kHit ? 1u : 0u);
-        s_.ray_ends[k++] = key << point_bits_ | i;
+        s_.ray_ends[k++] = rayEndWord(block * kBlockCells + uint64_t(offsetInBlock(c)), i);
       }
     });
   } else {
@@ -307,9 +305,7 @@ int ScanUpdater::keyEndsByBlockRank() {
       last_rank = rank_of_block.try_emplace(b, rank_of_block.size()).first->second;
       last_block = b;
     }
-    const uint64_t dense = last_rank * kBlockCells + uint64_t(offsetInBlock(c));
-    const uint64_t key = dense << 1 | (s_.kinds[i] == PointKind::kHit ? 1u : 0u);
-    s_.ray_ends[k++] = key << point_bits_ | i;
+    s_.ray_ends[k++] = rayEndWord(last_rank * kBlockCells + uint64_t(offsetInBlock(c)), i);
   }
   const int key_bits = bitsFor(2 * kBlockCells * rank_of_block.size() - 1);
   if (key_bits + point_bits_ > 64)  // over 2^27 points, spread over kilometres

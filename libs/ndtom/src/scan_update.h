@@ -83,6 +83,12 @@ class ScanUpdater {
   std::pair<size_t, size_t> classifyChunk(size_t t) const;
   void groupEndsByCell();
   int keyEndsByBlockRank();
+  /// The ray_ends word of used point `i` whose end is in cell `dense` (block number *
+  /// kBlockCells + offset in the block).
+  uint64_t rayEndWord(uint64_t dense, size_t i) const {
+    const uint64_t key = dense << 1 | (s_.kinds[i] == PointKind::kHit ? 1u : 0u);
+    return key << point_bits_ | i;
+  }
   uint64_t keyOf(uint64_t ray_end) const { return ray_end >> point_bits_; }
   size_t pointOf(uint64_t ray_end) const { return size_t(ray_end & point_mask_); }
   void traceFreeRays();
