@@ -1,6 +1,7 @@
 #include "ndtom/ndt_map.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 
@@ -23,6 +24,12 @@ NdtMap::Scratch& NdtMap::Scratch::operator=(Scratch&&) noexcept = default;
 
 NdtMap::NdtMap(const MapOptions& options) : options_(options), geometry_(options.resolution) {
   validate(options_);
+  touch();
+}
+
+void NdtMap::touch() {
+  static std::atomic<uint64_t> last_revision{0};
+  revision_ = last_revision.fetch_add(1, std::memory_order_relaxed) + 1;
 }
 
 float NdtMap::clampLogOdds(double l) const {
@@ -37,6 +44,7 @@ InsertionReport NdtMap::insertScan(const std::vector<Eigen::Vector3d>& points,
 InsertionReport NdtMap::insertScan(const std::vector<Eigen::Vector3d>& points,
                                    const Eigen::Vector3d& sensor_origin,
                                    const InsertOptions& options) {
+  touch();
   ScanUpdater updater(*this, options, scratch_.get());
   return updater.run(points, sensor_origin);
 }
@@ -100,6 +108,7 @@ size_t NdtMap::memoryBytes() const {
 }
 
 void NdtMap::clear() {
+  touch();
   grid_.clear();
   scratch_ = Scratch();
   num_cells_ = 0;
@@ -109,6 +118,7 @@ void NdtMap::setCell(const CellIndex& index, float logodds, const CellStats& sta
   for (int a = 0; a < 3; ++a)
     if (!(std::abs(index[a]) < kMaxCellIndex - 1))
       throw std::invalid_argument("setCell: cell index outside the supported range");
+  touch();
   Block& block = grid_.getOrCreate(blockOf(index));
   const int i = offsetInBlock(index);
   if (!block.known[i]) {
@@ -133,6 +143,7 @@ void NdtMap::shrinkToFit() {
 void NdtMap::merge(const NdtMap& other) {
   if (other.options_.resolution != options_.resolution)
     throw std::invalid_argument("merge: maps have different resolutions");
+  touch();
   if (&other == this) {
     const NdtMap copy = other;
     merge(copy);

@@ -79,6 +79,11 @@ class NdtMap {
   /// Heap bytes used by cells, blocks, index and statistics.
   size_t memoryBytes() const;
 
+  /// Changes with every call that may change the cells (insertion, setCell, merge, clear);
+  /// unique across maps, and shared by copies. Caches derived from a map (the registration
+  /// pyramid) compare it to know when to rebuild.
+  uint64_t revision() const { return revision_; }
+
   // --- Map algebra ------------------------------------------------------------------------
 
   /// Adds a map built from other data (same resolution, else std::invalid_argument):
@@ -149,11 +154,13 @@ class NdtMap {
   void forEachCellOfBlock(const CellIndex& block_index, const Block& block, F& f) const;
 
   float clampLogOdds(double l) const;
+  void touch();  ///< a new revision()
 
   MapOptions options_;
   GridGeometry geometry_;
   BlockGrid<Block> grid_;
   size_t num_cells_ = 0;
+  uint64_t revision_ = 0;
   Scratch scratch_;
 };
 

@@ -1,0 +1,215 @@
+#include "ndtom/registration.h"
+
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "parallel.h"
+#include "registration/ndt_objective.h"
+#include "registration/newton_search.h"
+#include "registration/scan_levels.h"
+
+namespace ndtom {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+[[noreturn]] void fail(const char* option, double value, const char* why) {
+  std::ostringstream msg;
+  msg << option << " = " << value << ": " << why;
+  throw std::invalid_argument(msg.str());
+}
+
+/// The guess as a rigid transform: finite, its rotation orthonormal with determinant +1
+/// (re-orthonormalised within 1e-6, as float round trips leave it).
+Eigen::Isometry3d rigidGuess(const Eigen::Isometry3d& guess) {
+  if (!guess.matrix().allFinite())
+    throw std::invalid_argument("registration: the initial guess is not finite");
+  const Eigen::Matrix3d r = guess.linear();
+  if (!((r.transpose() * r - Eigen::Matrix3d::Identity()).norm() < 1e-6 && r.determinant() > 0))
+    throw std::invalid_argument(
+        "registration: the initial guess is not a rigid motion (rotation not orthonormal with "
+        "determinant +1)");
+  Eigen::Isometry3d out = guess;
+  out.linear() = Eigen::Quaterniond(r).normalized().toRotationMatrix();
+  return out;
+}
+
+/// Finite points within the range limits whose cells the finest grid can index.
+std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& scan,
+                                          const RegistrationOptions& o, double finest_cell) {
+  const GridGeometry grid(finest_cell);
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(scan.size());
+  for (const Eigen::Vector3d& p : scan) {
+    if (!grid.inRange(p)) continue;  // also drops NaN and inf
+    const double range = p.norm();
+    if (range >= o.min_range && range <= o.max_range) out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace
+
+const char* toString(RegistrationMethod method) {
+  return method == RegistrationMethod::D2D ? "d2d" : "p2d";
+}
+
+RegistrationMethod registrationMethodFromString(const std::string& text) {
+  if (text == "p2d" || text == "P2D") return RegistrationMethod::P2D;
+  if (text == "d2d" || text == "D2D") return RegistrationMethod::D2D;
+  throw std::invalid_argument("method = " + text + ": expected p2d or d2d");
+}
+
+void validate(const RegistrationOptions& o) {
+  if (o.method != RegistrationMethod::P2D && o.method != RegistrationMethod::D2D)
+    fail("method", double(int(o.method)), "unknown method");
+  if (o.level_factors.empty()) throw std::invalid_argument("level_factors: none given");
+  for (size_t i = 0; i < o.level_factors.size(); ++i) {
+    if (o.level_factors[i] < 1 || o.level_factors[i] > 1024)
+      fail("level_factors", o.level_factors[i], "each must be in [1, 1024]");
+    if (i > 0 && o.level_factors[i] >= o.level_factors[i - 1])
+      fail("level_factors", o.level_factors[i], "must decrease: coarse to fine");
+  }
+  if (!(o.outlier_ratio > 0 && o.outlier_ratio < 1))
+    fail("outlier_ratio", o.outlier_ratio, "must be in (0, 1)");
+  if (!(o.max_iterations >= 1 && o.max_iterations <= 1000))
+    fail("max_iterations", o.max_iterations, "must be in [1, 1000]");
+  if (!(o.translation_epsilon > 0 && std::isfinite(o.translation_epsilon)))
+    fail("translation_epsilon", o.translation_epsilon, "must be finite and > 0");
+  if (!(o.rotation_epsilon > 0 && std::isfinite(o.rotation_epsilon)))
+    fail("rotation_epsilon", o.rotation_epsilon, "must be finite and > 0");
+  if (!(o.min_range >= 0 && std::isfinite(o.min_range)))
+    fail("min_range", o.min_range, "must be finite and >= 0");
+  if (!(o.max_range > o.min_range)) fail("max_range", o.max_range, "must be > min_range");
+  if (!(o.voxel_ratio >= 0.05 && o.voxel_ratio <= 4))
+    fail("voxel_ratio", o.voxel_ratio, "must be in [0.05, 4]");
+  if (o.max_points < 10) fail("max_points", double(o.max_points), "must be >= 10");
+  if (!(o.min_matched_fraction >= 0 && o.min_matched_fraction <= 1))
+    fail("min_matched_fraction", o.min_matched_fraction, "must be in [0, 1]");
+  if (!(o.threads >= 1 && o.threads <= InsertOptions::kMaxThreads))
+    fail("threads", o.threads, "must be in [1, 256]");
+}
+
+struct NdtRegistration::Workers {
+  WorkerPool pool;
+};
+
+NdtRegistration::NdtRegistration(const RegistrationOptions& options)
+    : options_(options), workers_(std::make_unique<Workers>()) {
+  validate(options_);
+}
+NdtRegistration::~NdtRegistration() = default;
+NdtRegistration::NdtRegistration(NdtRegistration&&) noexcept = default;
+NdtRegistration& NdtRegistration::operator=(NdtRegistration&&) noexcept = default;
+
+void NdtRegistration::setOptions(const RegistrationOptions& options) {
+  validate(options);
+  if (options.level_factors != options_.level_factors) pyramid_.reset();
+  options_ = options;
+}
+
+std::shared_ptr<const MapPyramid> NdtRegistration::pyramidFor(const NdtMap& map) {
+  if (pyramid_ && pyramid_->revision() == map.revision() &&
+      pyramid_->factors() == options_.level_factors &&
+      pyramid_->level(pyramid_->size() - 1).geometry().resolution() == map.geometry().resolution())
+    return pyramid_;
+  return std::make_shared<const MapPyramid>(map, options_.level_factors);
+}
+
+RegistrationResult NdtRegistration::align(const NdtMap& map,
+                                          const std::vector<Eigen::Vector3d>& scan,
+                                          const Eigen::Isometry3d& guess) {
+  using namespace registration;
+  const auto start = Clock::now();
+  const RegistrationOptions& o = options_;
+  RegistrationResult result;
+  result.pose = rigidGuess(guess);
+
+  const auto pyramid = pyramidFor(map);
+  result.pyramid_rebuilt = pyramid != pyramid_;
+  if (pyramid->level(pyramid->size() - 1).empty())
+    throw std::invalid_argument("registration: the map has no occupied cell with a Gaussian");
+  std::vector<double> resolutions;
+  for (size_t l = 0; l < pyramid->size(); ++l) resolutions.push_back(pyramid->resolution(l));
+  const double finest_voxel =
+      resolutions.back() * (o.method == RegistrationMethod::P2D ? o.voxel_ratio : 1.0);
+  const std::vector<Eigen::Vector3d> points = usablePoints(scan, o, finest_voxel);
+  if (points.empty())
+    throw std::invalid_argument("registration: the scan has no finite point within [" +
+                                std::to_string(o.min_range) + ", " + std::to_string(o.max_range) +
+                                "] m of the sensor");
+  pyramid_ = pyramid;
+  const std::vector<ScanLevel> levels =
+      buildScanLevels(points, resolutions, o, map.options().regularization);
+
+  const NdtObjective* finest = nullptr;
+  std::vector<NdtObjective> objectives;
+  objectives.reserve(levels.size());
+  for (size_t l = 0; l < levels.size(); ++l) {
+    const auto level_start = Clock::now();
+    const double res = resolutions[l];
+    objectives.emplace_back(pyramid->level(l), levels[l], o.method,
+                            scoreConstants(res, o.outlier_ratio), workers_->pool, o.threads);
+    finest = &objectives.back();
+    NewtonSettings settings;
+    settings.max_iterations = o.max_iterations;
+    // Coarse levels only need to bring the pose within the next level's reach.
+    const double coarseness = double(pyramid->factor(l)) / pyramid->factor(levels.size() - 1);
+    settings.translation_epsilon = o.translation_epsilon * coarseness;
+    settings.rotation_epsilon = o.rotation_epsilon * coarseness;
+    settings.max_translation_step = res;
+    LevelReport report;
+    report.resolution = res;
+    report.scan_items = levels[l].size();
+    if (levels[l].size() > 0) {
+      const NewtonOutcome outcome = newtonSearch(objectives.back(), result.pose, settings);
+      report.iterations = outcome.iterations;
+      report.evaluations = outcome.evaluations;
+      report.converged = outcome.converged;
+      report.score = outcome.value.score / double(outcome.value.items);
+      report.matched_fraction = double(outcome.value.matched) / double(outcome.value.items);
+    }
+    report.seconds = secondsSince(level_start);
+    result.levels.push_back(report);
+  }
+
+  const LevelReport& last = result.levels.back();
+  result.score = last.score;
+  result.matched_fraction = last.matched_fraction;
+  const PoseInformation info = finest->information(result.pose);
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(info.information);
+  const bool constrained = info.terms > 6 && eig.eigenvalues()[0] > 1e-9 * eig.eigenvalues()[5];
+  if (constrained) {
+    // Residuals as the map's Gaussians predict give χ² ≈ 3 per term: a scale near 1.
+    const double scale = info.chi2 / double(3 * info.terms - 6);
+    result.covariance = scale * eig.eigenvectors() *
+                        eig.eigenvalues().cwiseInverse().asDiagonal() *
+                        eig.eigenvectors().transpose();
+  } else {
+    result.covariance = Matrix6d::Identity() * 1e6;
+  }
+
+  if (!last.converged) {
+    result.failure = "the finest level did not converge in " + std::to_string(o.max_iterations) +
+                     " iterations";
+  } else if (last.matched_fraction < o.min_matched_fraction) {
+    std::ostringstream why;
+    why << "only " << last.matched_fraction << " of the scan matched the map (min_matched_fraction "
+        << o.min_matched_fraction << ")";
+    result.failure = why.str();
+  } else if (!constrained) {
+    result.failure = "the matched part of the scan does not constrain all six degrees of freedom";
+  }
+  result.converged = result.failure.empty();
+  result.seconds = secondsSince(start);
+  return result;
+}
+
+}  // namespace ndtom
