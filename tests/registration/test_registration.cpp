@@ -167,6 +167,30 @@ TEST(Registration, ScanFarFromTheMapIsReportedAsFailed) {
   }
 }
 
+TEST(Registration, PlanarChangesOnlyXYAndYaw) {
+  const RealCase& c = realCase();
+  const Isometry3d& truth = c.poses[RealCase::kLeftOut];
+  RegistrationOptions o;
+  o.planar = true;
+  NdtRegistration registration(o);
+  Isometry3d guess = truth;
+  guess.translation() += Vector3d(0.8, -0.6, 0);  // planar: z, roll and pitch are known
+  guess.linear() = Eigen::AngleAxisd(8 * kDeg, Vector3d::UnitZ()) * truth.linear();
+  const RegistrationResult r = registration.align(c.map, c.scan, guess);
+  EXPECT_TRUE(r.converged) << r.failure;
+  EXPECT_LT((r.pose.translation() - truth.translation()).head<2>().norm(), 0.02);
+  EXPECT_EQ(r.pose.translation().z(), guess.translation().z());
+  // The sensor's axes turned about z only: its z axis, and so roll and pitch, as guessed.
+  EXPECT_TRUE(r.pose.linear().row(2).isApprox(guess.linear().row(2), 1e-12));
+  EXPECT_LT(rotationErrorDeg(r.pose, truth), 0.2);
+  for (int k : {2, 3, 4}) {
+    EXPECT_EQ(r.covariance.row(k).norm(), 0);
+    EXPECT_EQ(r.covariance.col(k).norm(), 0);
+  }
+  EXPECT_GT(r.covariance(0, 0), 0);
+  EXPECT_GT(r.covariance(5, 5), 0);
+}
+
 TEST(Registration, SameResultForOneAndTwoThreads) {
   const RealCase& c = realCase();
   Isometry3d guess = c.poses[RealCase::kLeftOut];

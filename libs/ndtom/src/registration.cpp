@@ -1,6 +1,8 @@
 #include "ndtom/registration.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -165,6 +167,7 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
     settings.translation_epsilon = o.translation_epsilon * coarseness;
     settings.rotation_epsilon = o.rotation_epsilon * coarseness;
     settings.max_translation_step = res;
+    settings.free = freeParameters(o.planar);
     LevelReport report;
     report.resolution = res;
     report.scan_items = levels[l].size();
@@ -183,17 +186,24 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   const LevelReport& last = result.levels.back();
   result.score = last.score;
   result.matched_fraction = last.matched_fraction;
+  // Covariance over the free parameters; fixed ones get zero rows and columns.
+  const std::array<bool, 6> free = freeParameters(o.planar);
   const PoseInformation info = finest->information(result.pose);
-  const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(info.information);
-  const bool constrained = info.terms > 6 && eig.eigenvalues()[0] > 1e-9 * eig.eigenvalues()[5];
+  // (Fixed parameters get a curvature on the scale of the others: out of the rank test.)
+  const double typical = std::max(info.information.diagonal().maxCoeff(), 1e-300);
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(restrictTo(info.information, free, typical));
+  const size_t free_count = size_t(std::count(free.begin(), free.end(), true));
+  const bool constrained =
+      info.terms > free_count && eig.eigenvalues()[0] > 1e-9 * eig.eigenvalues()[5];
   if (constrained) {
     // Residuals as the map's Gaussians predict give χ² ≈ 3 per term: a scale near 1.
-    const double scale = info.chi2 / double(3 * info.terms - 6);
-    result.covariance = scale * eig.eigenvectors() *
-                        eig.eigenvalues().cwiseInverse().asDiagonal() *
-                        eig.eigenvectors().transpose();
+    const double scale = info.chi2 / double(3 * info.terms - free_count);
+    result.covariance = restrictTo(scale * eig.eigenvectors() *
+                                       eig.eigenvalues().cwiseInverse().asDiagonal() *
+                                       eig.eigenvectors().transpose(),
+                                   free, 0.0);
   } else {
-    result.covariance = Matrix6d::Identity() * 1e6;
+    result.covariance = restrictTo(Matrix6d::Identity() * 1e6, free, 0.0);
   }
 
   if (!last.converged) {

@@ -59,6 +59,9 @@ struct RegistrationOptions {
   /// Verdict: the fraction of scan points (P2D) or scan Gaussians (D2D) within 3σ of a map
   /// Gaussian at the finest level must reach this (Default: 0.4).
   double min_matched_fraction = 0.4;
+  /// Only x, y and the rotation about the map's z axis change; z, roll and pitch stay as
+  /// guessed: for 2D scans and robots on flat ground (Default: false).
+  bool planar = false;
   /// Threads over points; the result is the same for any count (Default: 1).
   int threads = 1;
 };
@@ -81,7 +84,8 @@ struct RegistrationResult {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor -> map
   /// Of the pose's error δ = (v, ω): pose = (Exp(ω)·R, t + v), i.e. a translation and a
   /// rotation vector in the map frame turning about the sensor (m², rad²). Gauss-Newton
-  /// information of the matched terms at the finest level, scaled by their residual.
+  /// information of the matched terms at the finest level, scaled by their residual; zero
+  /// rows and columns for what `planar` keeps fixed.
   Matrix6d covariance = Matrix6d::Identity();
   std::vector<LevelReport> levels;  ///< coarse to fine
   double score = 0;                 ///< finest level's score per scan item

@@ -24,22 +24,37 @@ Vector6d ascentDirection(const Matrix6d& hessian, const Vector6d& gradient) {
   return v * inverse.asDiagonal() * (v.transpose() * gradient);
 }
 
+Matrix6d restrictTo(const Matrix6d& m, const std::array<bool, 6>& free, double diagonal) {
+  Matrix6d out = m;
+  for (int k = 0; k < 6; ++k) {
+    if (free[size_t(k)]) continue;
+    out.row(k).setZero();
+    out.col(k).setZero();
+    out(k, k) = diagonal;
+  }
+  return out;
+}
+
 NewtonOutcome newtonSearch(const NdtObjective& objective, Eigen::Isometry3d& pose,
                            const NewtonSettings& settings) {
   NewtonOutcome out;
   out.value = objective.evaluate(pose, true);
   out.evaluations = 1;
   for (; out.iterations < settings.max_iterations;) {
-    if (out.value.gradient.isZero(0.0)) {  // nothing to match, or an exact optimum
+    if (out.value.gradient.isZero(0.0)) {  // (checked on all parameters: cheap and rare)  // nothing to match, or an exact optimum
       out.converged = true;
       break;
     }
-    Vector6d step = ascentDirection(out.value.hessian, out.value.gradient);
+    // Fixed parameters: no gradient and a unit curvature, so their step is 0.
+    Vector6d gradient = out.value.gradient;
+    for (int k = 0; k < 6; ++k)
+      if (!settings.free[size_t(k)]) gradient[k] = 0;
+    Vector6d step = ascentDirection(restrictTo(out.value.hessian, settings.free, -1), gradient);
     const double t = step.head<3>().norm(), r = step.tail<3>().norm();
     const double cap = std::min({1.0, settings.max_translation_step / std::max(t, 1e-300),
                                  settings.max_rotation_step / std::max(r, 1e-300)});
     step *= cap;
-    const double slope = out.value.gradient.dot(step);  // > 0: an ascent direction
+    const double slope = gradient.dot(step);  // > 0: an ascent direction
 
     double alpha = 1;
     bool accepted = false;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 
 #include "ndt_objective.h"
 
@@ -15,7 +16,18 @@ struct NewtonSettings {
   double rotation_epsilon = 1e-4;     ///< rad
   double max_translation_step = 1.0;  ///< m
   double max_rotation_step = 0.15;    ///< rad
+  /// Parameters allowed to change (v, ω); the others keep their value.
+  std::array<bool, 6> free = {true, true, true, true, true, true};
 };
+
+/// The parameters RegistrationOptions::planar leaves free: x, y and the rotation about z.
+inline std::array<bool, 6> freeParameters(bool planar) {
+  if (planar) return {true, true, false, false, false, true};
+  return {true, true, true, true, true, true};
+}
+
+/// `m` with the rows and columns of fixed parameters zeroed and `diagonal` on their diagonal.
+Matrix6d restrictTo(const Matrix6d& m, const std::array<bool, 6>& free, double diagonal);
 
 struct NewtonOutcome {
   ObjectiveValue value;  ///< at the final pose
