@@ -2,32 +2,12 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
+#include "mrpt_ndtom/points_map.h"
 #include "ndtom/ndt_correspondences.h"
 #include "ndtom/ndt_likelihood.h"
 
 namespace mrpt_ndtom {
-namespace {
-
 using Eigen::Vector3d;
-
-const mrpt::maps::CPointsMap* asPointsMap(const mrpt::maps::CMetricMap* map) {
-  if (!map) return nullptr;
-  if (const auto* points = dynamic_cast<const mrpt::maps::CPointsMap*>(map)) return points;
-  return map->getAsSimplePointsMap();  // e.g. a CMultiMetricMap holding one points map
-}
-
-// The other map's points moved into this map's frame by `pose`.
-std::vector<Vector3d> transformedPoints(const mrpt::maps::CPointsMap& points,
-                                        const mrpt::poses::CPose3D& pose) {
-  const Eigen::Isometry3d t = toIsometry(pose);
-  const auto &xs = points.getPointsBufferRef_x(), &ys = points.getPointsBufferRef_y(),
-             &zs = points.getPointsBufferRef_z();
-  std::vector<Vector3d> out(xs.size());
-  for (size_t i = 0; i < xs.size(); ++i) out[i] = t * Vector3d(xs[i], ys[i], zs[i]);
-  return out;
-}
-
-}  // namespace
 
 bool CNDTOccupancyMap::internal_canComputeObservationLikelihood(
     const mrpt::obs::CObservation& obs) const {
@@ -71,7 +51,7 @@ void CNDTOccupancyMap::determineMatching3D(const mrpt::maps::CMetricMap* otherMa
   co.first = params.offset_other_map_points;
   co.stride = std::max<size_t>(1, params.decimation_other_map_points);
   const auto result =
-      ndtom::findCorrespondences(*gaussianLookup(), transformedPoints(*other, otherMapPose), co);
+      ndtom::findCorrespondences(*gaussianLookup(), pointsOf(*other, otherMapPose), co);
 
   const auto &xs = other->getPointsBufferRef_x(), &ys = other->getPointsBufferRef_y(),
              &zs = other->getPointsBufferRef_z();
@@ -95,7 +75,7 @@ float CNDTOccupancyMap::compute3DMatchingRatio(
     const mrpt::maps::TMatchingRatioParams& params) const {
   const mrpt::maps::CPointsMap* other = asPointsMap(otherMap);
   if (!other || other->size() == 0) return 0.0f;
-  return float(ndtom::matchingRatio(*gaussianLookup(), transformedPoints(*other, otherMapPose),
+  return float(ndtom::matchingRatio(*gaussianLookup(), pointsOf(*other, otherMapPose),
                                     params.maxMahaDistForCorr));
 }
 

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "archive_checks.h"
+#include "ini_values.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 #include "ndtom/ndt_likelihood.h"
 
@@ -24,21 +25,6 @@ uint32_t readDecimation(const mrpt::config::CConfigFileBase& c, const std::strin
     THROW_EXCEPTION(
         mrpt::format("[%s] %s = %d: must be >= 1", section.c_str(), name.c_str(), value));
   return uint32_t(value);
-}
-
-// Read as text: read_int's atoi takes "4294967298" as 2 and "1e3" as 1. MRPT leaves "#" and
-// ";" comments in the value, so they may follow the number. The range is checked by the core.
-int readThreads(const mrpt::config::CConfigFileBase& c, const std::string& section, int current) {
-  const std::string text = c.read_string(section, "threads", std::to_string(current));
-  char* end = nullptr;
-  const long long value = std::strtoll(text.c_str(), &end, 10);
-  const char* rest = end;
-  while (std::isspace(static_cast<unsigned char>(*rest))) ++rest;
-  if (end == text.c_str() || (*rest != '\0' && *rest != '#' && *rest != ';') ||
-      value < INT_MIN || value > INT_MAX)  // strtoll saturates on overflow
-    THROW_EXCEPTION(mrpt::format("[%s] threads = %s: must be an integer in [1, 256]",
-                                 section.c_str(), text.c_str()));
-  return int(value);
 }
 
 // Runs a validation and rethrows its message prefixed with the .ini section.
@@ -80,7 +66,8 @@ void CNDTOccupancyMap::TInsertionOptions::loadFromConfigFile(
   decimation_3d_range = readDecimation(source, section, "decimation_3d_range", decimation_3d_range);
   MRPT_LOAD_CONFIG_VAR(min_eigen_ratio, double, source, section);
   MRPT_LOAD_CONFIG_VAR(min_eigen_abs, double, source, section);
-  threads = readThreads(source, section, threads);
+  threads = int(detail::readInteger(source, section, "threads", threads, 1,
+                                    ndtom::InsertOptions::kMaxThreads));
   validateSection(section, [this] { toMapOptions(); });
 }
 
