@@ -5,11 +5,10 @@
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "height_colors.h"
 #include "ndtom/map_io.h"
 #include "oblique_view.h"
+#include "png_bytes.h"
 #include "top_view.h"
 
 namespace ndtom::mapper {
@@ -17,14 +16,6 @@ namespace {
 
 std::string asString(const std::vector<uint8_t>& bytes) {
   return std::string(bytes.begin(), bytes.end());
-}
-
-std::string pngBytes(const cv::Mat& image) {
-  std::vector<uint8_t> png;
-  // Full compression: a few tenths of a second for pictures a third smaller.
-  if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 9}))
-    throw std::runtime_error("cannot encode a PNG picture");
-  return asString(png);
 }
 
 void writeMrptMap(const mrpt_ndtom::CNDTOccupancyMap& map, OutputFiles& out) {

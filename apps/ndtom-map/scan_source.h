@@ -2,7 +2,7 @@
 // scans in order, each as world-frame points seen from a sensor origin.
 #pragma once
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cstddef>
 #include <memory>
@@ -25,6 +25,11 @@ class InputError : public std::runtime_error {
 struct Scan {
   std::vector<Eigen::Vector3d> points_world;                ///< (m)
   Eigen::Vector3d sensor_origin = Eigen::Vector3d::Zero();  ///< (m)
+  /// The frame the points were measured in, in the world: the sensor's (PCD, TUM) or the
+  /// robot's (rawlog, simplemap: the sensor's pose on the robot already applied). Identity,
+  /// with has_pose false, where the input gives none (SourceSettings::poses_optional).
+  Eigen::Isometry3d frame_pose = Eigen::Isometry3d::Identity();
+  bool has_pose = true;
   double time = 0;   ///< seconds (the scan's index where the input has no time)
   std::string name;  ///< for messages: a file name or "observation 12"
 };
@@ -65,7 +70,14 @@ struct SourceSettings {
   uint32_t decimation = 1;           ///< 1 point in N of scans and clouds
   uint32_t decimation_3d_range = 1;  ///< depth images: every N-th row and column
   size_t max_scans = 0;              ///< 0 = all
+  /// Scans without a pose are yielded in their own frame instead of being refused or
+  /// skipped (localization estimates the poses): a PCD folder without poses.txt, rawlog
+  /// scans without odometry.
+  bool poses_optional = false;
 };
+
+/// The scan's points in its own frame (Scan::frame_pose).
+std::vector<Eigen::Vector3d> pointsInFrame(const Scan& scan);
 
 /// Opens the input (detecting its format if Auto) and checks it can be read completely:
 /// files exist, poses match the scans. Throws apps::UsageError or InputError.

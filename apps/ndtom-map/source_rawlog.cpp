@@ -21,7 +21,9 @@ mrpt::poses::CPose3D toCPose3D(const Eigen::Isometry3d& pose) {
 class RawlogSource : public ScanSource {
  public:
   explicit RawlogSource(const SourceSettings& s)
-      : path_(s.input), extraction_{s.decimation, s.decimation_3d_range} {
+      : path_(s.input),
+        extraction_{s.decimation, s.decimation_3d_range},
+        poses_optional_(s.poses_optional) {
     if (std::filesystem::is_directory(path_))
       throw apps::UsageError(path_ + ": a folder, not a rawlog");
     if (!s.poses_file.empty())
@@ -37,12 +39,14 @@ class RawlogSource : public ScanSource {
       const size_t index = observation_index_++;
       const auto pose = trajectory_ ? std::optional(trajectory_->poseFor(index, entry->time))
                                     : entry->odometry_pose;
-      if (!pose) {
+      if (!pose && !poses_optional_) {
         ++skips_.scans_without_pose;
         continue;
       }
       ++yielded_;
-      return toScan(*entry, toCPose3D(*pose), index);
+      Scan scan = toScan(*entry, pose ? toCPose3D(*pose) : mrpt::poses::CPose3D(), index);
+      scan.has_pose = pose.has_value();
+      return scan;
     }
     return std::nullopt;
   }
@@ -74,6 +78,8 @@ class RawlogSource : public ScanSource {
     if (trajectory_) {
       trajectory_->checkCovers(times, path_);
       size_ = limitScans(times.size(), max_scans);
+    } else if (poses_optional_) {
+      size_ = limitScans(times.size(), max_scans);
     } else {
       if (with_odometry == 0)
         throw InputError(path_ +
@@ -86,6 +92,7 @@ class RawlogSource : public ScanSource {
   Scan toScan(const RawlogObservation& entry, const mrpt::poses::CPose3D& pose, size_t index) {
     Scan scan;
     scan.time = entry.time;
+    scan.frame_pose = mrpt_ndtom::toIsometry(pose);
     scan.name = "observation " + std::to_string(index) + " (" +
                 entry.observation->GetRuntimeClass()->className + ")";
     try {
@@ -100,6 +107,7 @@ class RawlogSource : public ScanSource {
 
   std::string path_;
   mrpt_ndtom::TPointExtractionOptions extraction_;
+  bool poses_optional_;
   std::optional<TrajectoryPoses> trajectory_;
   std::unique_ptr<RawlogReader> reader_;
   size_t observations_ = 0, observation_index_ = 0, yielded_ = 0;

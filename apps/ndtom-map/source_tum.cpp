@@ -45,6 +45,7 @@ class TumSource : public ScanSource {
     scan.name = frame.depth_path;
     scan.time = frame.time;
     scan.sensor_origin = frame.camera_to_world.translation();
+    scan.frame_pose = frame.camera_to_world;
     scan.points_world.reserve(points.size());
     for (const auto& p : points) scan.points_world.push_back(frame.camera_to_world * p);
     return scan;
