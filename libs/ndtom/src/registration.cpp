@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstring>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -57,6 +58,33 @@ std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& sc
   return out;
 }
 
+// FNV-1a over 8-byte words (then the tail bytes): fast enough to hash a scan per call.
+void mix(uint64_t& h, const void* data, size_t bytes) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  size_t i = 0;
+  for (; i + 8 <= bytes; i += 8) {
+    uint64_t word;
+    std::memcpy(&word, p + i, 8);
+    h = (h ^ word) * 0x100000001b3ULL;
+  }
+  for (; i < bytes; ++i) h = (h ^ p[i]) * 0x100000001b3ULL;
+}
+
+/// What the scan levels depend on, hashed: the points and every option that shapes them.
+uint64_t scanKey(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& resolutions,
+                 const RegistrationOptions& o, const Regularization& reg) {
+  uint64_t h = 0xcbf29ce484222325ULL;
+  mix(h, points.data(), points.size() * sizeof(Eigen::Vector3d));
+  mix(h, resolutions.data(), resolutions.size() * sizeof(double));
+  const int method = int(o.method);
+  mix(h, &method, sizeof(method));
+  mix(h, &o.voxel_ratio, sizeof(double));
+  mix(h, &o.max_points, sizeof(size_t));
+  mix(h, &reg.min_eigen_ratio, sizeof(double));
+  mix(h, &reg.min_eigen_abs, sizeof(double));
+  return h | 1;  // never 0, the empty cache's key
+}
+
 }  // namespace
 
 const char* toString(RegistrationMethod method) {
@@ -99,12 +127,16 @@ void validate(const RegistrationOptions& o) {
     fail("threads", o.threads, "must be in [1, 256]");
 }
 
-struct NdtRegistration::Workers {
+struct NdtRegistration::State {
   WorkerPool pool;
+  /// The scan levels of the last call, kept for calls with the same scan, options and
+  /// levels (retries, global localization's hypotheses): building them sorts every point.
+  uint64_t scan_key = 0;
+  std::vector<registration::ScanLevel> levels;
 };
 
 NdtRegistration::NdtRegistration(const RegistrationOptions& options)
-    : options_(options), workers_(std::make_unique<Workers>()) {
+    : options_(options), state_(std::make_unique<State>()) {
   validate(options_);
 }
 NdtRegistration::~NdtRegistration() = default;
@@ -128,6 +160,12 @@ std::shared_ptr<const MapPyramid> NdtRegistration::pyramidFor(const NdtMap& map)
 RegistrationResult NdtRegistration::align(const NdtMap& map,
                                           const std::vector<Eigen::Vector3d>& scan,
                                           const Eigen::Isometry3d& guess) {
+  return align(map, scan, guess, options_.level_factors.size());
+}
+
+RegistrationResult NdtRegistration::align(const NdtMap& map,
+                                          const std::vector<Eigen::Vector3d>& scan,
+                                          const Eigen::Isometry3d& guess, size_t max_levels) {
   using namespace registration;
   const auto start = Clock::now();
   const RegistrationOptions& o = options_;
@@ -139,7 +177,8 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   if (pyramid->level(pyramid->size() - 1).empty())
     throw std::invalid_argument("registration: the map has no occupied cell with a Gaussian");
   std::vector<double> resolutions;
-  for (size_t l = 0; l < pyramid->size(); ++l) resolutions.push_back(pyramid->resolution(l));
+  for (size_t l = 0; l < std::min(pyramid->size(), std::max<size_t>(max_levels, 1)); ++l)
+    resolutions.push_back(pyramid->resolution(l));
   const double finest_voxel =
       resolutions.back() * (o.method == RegistrationMethod::P2D ? o.voxel_ratio : 1.0);
   const std::vector<Eigen::Vector3d> points = usablePoints(scan, o, finest_voxel);
@@ -148,8 +187,12 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
                                 std::to_string(o.min_range) + ", " + std::to_string(o.max_range) +
                                 "] m of the sensor");
   pyramid_ = pyramid;
-  const std::vector<ScanLevel> levels =
-      buildScanLevels(points, resolutions, o, map.options().regularization);
+  const uint64_t key = scanKey(points, resolutions, o, map.options().regularization);
+  if (key != state_->scan_key || state_->levels.empty()) {
+    state_->levels = buildScanLevels(points, resolutions, o, map.options().regularization);
+    state_->scan_key = key;
+  }
+  const std::vector<ScanLevel>& levels = state_->levels;
 
   const NdtObjective* finest = nullptr;
   std::vector<NdtObjective> objectives;
@@ -158,12 +201,12 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
     const auto level_start = Clock::now();
     const double res = resolutions[l];
     objectives.emplace_back(pyramid->level(l), levels[l], o.method,
-                            scoreConstants(res, o.outlier_ratio), workers_->pool, o.threads);
+                            scoreConstants(res, o.outlier_ratio), state_->pool, o.threads);
     finest = &objectives.back();
     NewtonSettings settings;
     settings.max_iterations = o.max_iterations;
     // Coarse levels only need to bring the pose within the next level's reach.
-    const double coarseness = double(pyramid->factor(l)) / pyramid->factor(levels.size() - 1);
+    const double coarseness = double(pyramid->factor(l)) / pyramid->factor(pyramid->size() - 1);
     settings.translation_epsilon = o.translation_epsilon * coarseness;
     settings.rotation_epsilon = o.rotation_epsilon * coarseness;
     settings.max_translation_step = res;

@@ -116,6 +116,10 @@ class NdtRegistration {
   /// Gaussian) or a scan without a usable point; nothing is cached then.
   RegistrationResult align(const NdtMap& map, const std::vector<Eigen::Vector3d>& scan,
                            const Eigen::Isometry3d& guess);
+  /// The same with only the `max_levels` coarsest levels: a cheap first look (global
+  /// localization sorts its hypotheses with it); the verdict is the last level's.
+  RegistrationResult align(const NdtMap& map, const std::vector<Eigen::Vector3d>& scan,
+                           const Eigen::Isometry3d& guess, size_t max_levels);
 
   /// The pyramid used by the last call (null before the first).
   std::shared_ptr<const MapPyramid> pyramid() const { return pyramid_; }
@@ -123,10 +127,10 @@ class NdtRegistration {
   std::shared_ptr<const MapPyramid> pyramidFor(const NdtMap& map);
 
  private:
-  struct Workers;
+  struct State;  // the worker pool, and the last scan as the levels see it
   RegistrationOptions options_;
   std::shared_ptr<const MapPyramid> pyramid_;
-  std::unique_ptr<Workers> workers_;
+  std::unique_ptr<State> state_;
 };
 
 }  // namespace ndtom
