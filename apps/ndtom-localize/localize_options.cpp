@@ -1,5 +1,8 @@
 #include "localize_options.h"
 
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -29,11 +32,11 @@ std::vector<int> parseLevels(const std::string& text) {
   return levels;
 }
 
-ndtom::io::PoseFormat poseFormatFromName(const std::string& name) {
+ndtom::io::PoseFormat poseFormatFromName(const std::string& option, const std::string& name) {
   if (name == "auto") return ndtom::io::PoseFormat::Auto;
   if (name == "kitti") return ndtom::io::PoseFormat::Kitti;
   if (name == "tum") return ndtom::io::PoseFormat::Tum;
-  throw UsageError("--pose-format: expected auto, kitti or tum, got '" + name + "'");
+  throw UsageError(option + ": expected auto, kitti or tum, got '" + name + "'");
 }
 
 const std::map<std::string, OptionSpec>& optionTable() {
@@ -45,7 +48,7 @@ const std::map<std::string, OptionSpec>& optionTable() {
        {true, [](O& o, const std::string& v) { o.format = mapper::inputFormatFromName(v); }}},
       {"--poses", {true, [](O& o, const std::string& v) { o.poses_file = v; }}},
       {"--pose-format",
-       {true, [](O& o, const std::string& v) { o.pose_format = poseFormatFromName(v); }}},
+       {true, [](O& o, const std::string& v) { o.pose_format = poseFormatFromName("--pose-format", v); }}},
       {"--max-scans",
        {true,
         [](O& o, const std::string& v) {
@@ -56,49 +59,75 @@ const std::map<std::string, OptionSpec>& optionTable() {
         [](O& o, const std::string& v) {
           o.decimation = uint32_t(parseInteger("--decimation", v, 1, 1000000));
         }}},
-      {"--initial", {true, [](O& o, const std::string& v) { o.initial = parsePose("--initial", v); }}},
+      {"--initial",
+       {true, [](O& o, const std::string& v) { o.tracking.initial = parsePose("--initial", v); }}},
+      {"--relocalize",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.relocalize_after = int(parseInteger("--relocalize", v, 1, 1000000));
+        }}},
+      {"--recovery-radius",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.recovery_radius = parseReal("--recovery-radius", v);
+          if (!(o.tracking.recovery_radius >= 0 && o.tracking.recovery_radius <= 100))
+            throw UsageError("--recovery-radius = " + v + ": must be in [0, 100] m");
+        }}},
+      {"--search-step",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.global.position_step = parseReal("--search-step", v);
+        }}},
+      {"--search-yaw-step",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.global.yaw_step_deg = parseReal("--search-yaw-step", v);
+        }}},
+      {"--reference", {true, [](O& o, const std::string& v) { o.reference_file = v; }}},
+      {"--reference-format",
+       {true, [](O& o, const std::string& v) { o.reference_format = poseFormatFromName("--reference-format", v); }}},
       {"--method",
        {true,
         [](O& o, const std::string& v) {
           try {
-            o.registration.method = ndtom::registrationMethodFromString(v);
+            o.tracking.registration.method = ndtom::registrationMethodFromString(v);
           } catch (const std::invalid_argument&) {
             throw UsageError("--method: expected p2d or d2d, got '" + v + "'");
           }
         }}},
-      {"--levels", {true, [](O& o, const std::string& v) { o.registration.level_factors = parseLevels(v); }}},
+      {"--levels", {true, [](O& o, const std::string& v) { o.tracking.registration.level_factors = parseLevels(v); }}},
       {"--min-range",
-       {true, [](O& o, const std::string& v) { o.registration.min_range = parseReal("--min-range", v); }}},
+       {true, [](O& o, const std::string& v) { o.tracking.registration.min_range = parseReal("--min-range", v); }}},
       {"--max-range",
        {true,
         [](O& o, const std::string& v) {
-          o.registration.max_range = parseReal("--max-range", v, /*allow_infinity=*/true);
+          o.tracking.registration.max_range = parseReal("--max-range", v, /*allow_infinity=*/true);
         }}},
       {"--max-points",
        {true,
         [](O& o, const std::string& v) {
-          o.registration.max_points = size_t(parseInteger("--max-points", v, 10, 100000000));
+          o.tracking.registration.max_points = size_t(parseInteger("--max-points", v, 10, 100000000));
         }}},
       {"--max-iterations",
        {true,
         [](O& o, const std::string& v) {
-          o.registration.max_iterations = int(parseInteger("--max-iterations", v, 1, 1000));
+          o.tracking.registration.max_iterations = int(parseInteger("--max-iterations", v, 1, 1000));
         }}},
       {"--outlier-ratio",
        {true,
         [](O& o, const std::string& v) {
-          o.registration.outlier_ratio = parseReal("--outlier-ratio", v);
+          o.tracking.registration.outlier_ratio = parseReal("--outlier-ratio", v);
         }}},
       {"--min-matched-fraction",
        {true,
         [](O& o, const std::string& v) {
-          o.registration.min_matched_fraction = parseReal("--min-matched-fraction", v);
+          o.tracking.registration.min_matched_fraction = parseReal("--min-matched-fraction", v);
         }}},
-      {"--planar", {false, [](O& o, const std::string&) { o.registration.planar = true; }}},
+      {"--planar", {false, [](O& o, const std::string&) { o.tracking.registration.planar = true; }}},
       {"--threads",
        {true,
         [](O& o, const std::string& v) {
-          o.registration.threads = int(parseInteger("--threads", v, 1, 256));
+          o.tracking.registration.threads = int(parseInteger("--threads", v, 1, 256));
         }}},
       {"--no-pictures", {false, [](O& o, const std::string&) { o.pictures = false; }}},
       {"--image-width",
@@ -114,15 +143,33 @@ const std::map<std::string, OptionSpec>& optionTable() {
   return table;
 }
 
+// The searches score and sort on pyramid levels: the nearest levels to their defaults
+// when --levels leaves those out.
+void fitSearchToLevels(LocalizeOptions& o) {
+  const std::vector<int>& levels = o.tracking.registration.level_factors;
+  if (levels.empty()) return;
+  auto nearest = [&](int wanted) {
+    return *std::min_element(levels.begin(), levels.end(), [&](int a, int b) {
+      return std::abs(a - wanted) < std::abs(b - wanted);
+    });
+  };
+  ndtom::GlobalSearchOptions& g = o.tracking.global;
+  g.scoring_level_factor = nearest(g.scoring_level_factor);
+  g.coarse_refinement_factor = nearest(g.coarse_refinement_factor);
+}
+
 void checkComplete(const LocalizeOptions& o) {
   if (o.map_path.empty()) throw UsageError("missing MAP (see --help)");
   if (o.input.empty()) throw UsageError("missing INPUT (see --help)");
   if (o.prefix.empty()) throw UsageError("missing -o PREFIX (see --help)");
   if (o.prefix.back() == '/')
     throw UsageError("-o " + o.prefix + ": PREFIX names files, e.g. out/run, not a folder");
-  if (!o.initial) throw UsageError("missing --initial \"x y z qx qy qz qw\" (the first scan's pose)");
+  std::error_code ec;
+  if (!o.reference_file.empty() && !std::filesystem::is_regular_file(o.reference_file, ec))
+    throw UsageError("--reference " + o.reference_file + ": no such file");
   try {
-    ndtom::validate(o.registration);
+    ndtom::validate(o.tracking.registration);
+    ndtom::validate(o.tracking.global);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
@@ -145,7 +192,8 @@ Eigen::Isometry3d parsePose(const std::string& option, const std::string& text) 
 
 LocalizeOptions parseLocalizeOptions(int argc, char** argv) {
   LocalizeOptions o;
-  o.registration.threads = int(std::max(1u, std::min(256u, std::thread::hardware_concurrency())));
+  o.tracking.registration.threads =
+      int(std::max(1u, std::min(256u, std::thread::hardware_concurrency())));
   const auto& table = optionTable();
   std::vector<std::string> positional;
   for (int i = 1; i < argc; ++i) {
@@ -172,6 +220,7 @@ LocalizeOptions parseLocalizeOptions(int argc, char** argv) {
   if (positional.size() > 2) throw UsageError("more than MAP and INPUT: '" + positional[2] + "'");
   if (positional.size() > 0) o.map_path = positional[0];
   if (positional.size() > 1) o.input = positional[1];
+  fitSearchToLevels(o);
   if (!o.help) checkComplete(o);
   return o;
 }
@@ -181,7 +230,7 @@ std::string helpText() {
       "ndtom-localize: the pose of every scan of a log in a saved NDT-OM, by NDT scan-to-map\n"
       "registration (P2D or D2D, coarse to fine over the map's exact coarsenings).\n"
       "\n"
-      "Usage: ndtom-localize MAP INPUT -o PREFIX --initial \"x y z qx qy qz qw\" [options]\n"
+      "Usage: ndtom-localize MAP INPUT -o PREFIX [--initial \"x y z qx qy qz qw\"] [options]\n"
       "\n"
       "MAP: a .ndtom or .ndtommap written by ndtom-map.\n"
       "INPUT: what ndtom-map reads (rawlog, simplemap, TUM RGB-D folder, PCD folder); a PCD\n"
@@ -193,9 +242,16 @@ std::string helpText() {
       "  --max-scans N             only the first N scans\n"
       "  --decimation N            1 point in N of each scan (1)\n"
       "\n"
-      "Localization: the first scan is registered from --initial, each later one from the\n"
-      "previous result moved by the last motion (constant velocity).\n"
+      "Localization: the first scan is registered from --initial (without it, searched for in\n"
+      "the whole map), each later one from a prediction: the log's odometry (rawlog), else\n"
+      "the last motion again (constant velocity). A failed registration is retried from the\n"
+      "last pose, then by a search around the prediction; a scan nothing places is lost.\n"
       "  --initial \"x y z qx qy qz qw\"   the first scan's pose in the map (TUM order)\n"
+      "  --relocalize N            after N lost scans in a row, search the whole map (never)\n"
+      "  --recovery-radius M       the search around the prediction: x, y within M m (4) and\n"
+      "                            yaw within 60 degrees\n"
+      "  --search-step M           x, y grid of the searches [m] (2)\n"
+      "  --search-yaw-step D       yaw grid of the searches [degrees] (30)\n"
       "  --method p2d|d2d          points to map Gaussians, or the scan's own NDT (p2d)\n"
       "  --levels 16,8,4,2         pyramid levels, coarse to fine, in map cells (16,8,4,2,1)\n"
       "  --min-range M, --max-range M   scan points used, distance to the sensor [m] (0, inf)\n"
@@ -206,17 +262,23 @@ std::string helpText() {
       "  --planar                  only x, y and yaw change (2D)\n"
       "  --threads N               threads; the result is the same for any (all cores)\n"
       "\n"
+      "Accuracy, where the input's poses are a reference (PCD poses.txt, TUM ground truth,\n"
+      "simplemap) or one is given: error of each scan's pose, RMSE and largest.\n"
+      "  --reference FILE          KITTI (line i = scan i) or TUM (matched by time stamp)\n"
+      "  --reference-format F      auto|kitti|tum\n"
+      "\n"
       "Output:\n"
-      "  -o, --output PREFIX       PREFIX.tum (t x y z qx qy qz qw per scan, map frame),\n"
+      "  -o, --output PREFIX       PREFIX.tum (t x y z qx qy qz qw per localized scan),\n"
       "                            PREFIX.summary.json (per scan: levels, iterations, score,\n"
-      "                            matched fraction, verdict, time), PREFIX.top.png (the path\n"
-      "                            on the map seen from above)\n"
+      "                            matched fraction, outcome, error, time), PREFIX.top.png\n"
+      "                            (the path on the map, coloured by error if known)\n"
       "  --no-pictures             skip the PNG\n"
       "  --image-width W           picture width [px] (1200)\n"
       "  -q, --quiet               no progress, no summary on stdout\n"
       "  -h, --help                this text\n"
       "\n"
-      "Example: ndtom-localize out/map.ndtom scans/ -o out/loc --initial \"0 0 0 0 0 0 1\"\n";
+      "Example: ndtom-localize out/map.ndtom scans/ -o out/loc --initial \"0 0 0 0 0 0 1\"\n"
+      "         ndtom-localize out/map.ndtom scans/ -o out/loc --relocalize 3   (no start pose)\n";
 }
 
 }  // namespace ndtom::localizer

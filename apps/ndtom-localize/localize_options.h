@@ -8,6 +8,7 @@
 #include "input_format.h"
 #include "ndtom/registration.h"
 #include "ndtom_io/pose_file.h"
+#include "tracking.h"
 
 namespace ndtom::localizer {
 
@@ -18,11 +19,16 @@ struct LocalizeOptions {
   mapper::InputFormat format = mapper::InputFormat::Auto;
   std::string poses_file;  ///< the input's own poses (as ndtom-map reads them), if any
   ndtom::io::PoseFormat pose_format = ndtom::io::PoseFormat::Auto;
+  double pose_time_tolerance = 0.02;
   size_t max_scans = 0;     ///< first N scans; 0 = all
   uint32_t decimation = 1;  ///< 1 point in N of each scan read
 
-  std::optional<Eigen::Isometry3d> initial;  ///< pose of the first scan's frame in the map
-  ndtom::RegistrationOptions registration;
+  std::string reference_file;  ///< --reference: poses to compare with (KITTI or TUM)
+  ndtom::io::PoseFormat reference_format = ndtom::io::PoseFormat::Auto;
+  double reference_time_tolerance = 0.02;  ///< s, TUM reference matched by time stamp
+
+  /// --initial, --relocalize, the registration and the searches.
+  TrackingSettings tracking;
 
   bool pictures = true;
   int image_width = 1200;

@@ -7,6 +7,7 @@
 
 #include "height_colors.h"
 #include "json_writer.h"
+#include "localize_accuracy.h"
 #include "png_bytes.h"
 #include "run_summary.h"
 #include "top_view.h"
@@ -14,10 +15,16 @@
 namespace ndtom::localizer {
 namespace {
 
-std::vector<double> registrationSeconds(const TrackingResult& tracking) {
+std::vector<double> scanSeconds(const TrackingResult& tracking) {
   std::vector<double> s;
-  for (const ScanRecord& r : tracking.scans) s.push_back(r.result.seconds);
+  for (const ScanRecord& r : tracking.scans) s.push_back(r.seconds);
   return s;
+}
+
+// Green up to 5 cm, then through yellow (10 cm) to red at 15 cm and beyond (BGR).
+cv::Scalar errorColour(double metres) {
+  const double f = std::clamp((metres - 0.05) / 0.10, 0.0, 1.0);
+  return f < 0.5 ? cv::Scalar(0, 170 + 170 * f, 510 * f) : cv::Scalar(0, 255 * (2 - 2 * f), 255);
 }
 
 void writePose(mapper::JsonWriter& j, const std::string& key, const Eigen::Isometry3d& pose) {
@@ -34,15 +41,20 @@ void writeScan(mapper::JsonWriter& j, const ScanRecord& r) {
   j.field("name", r.name);
   j.field("time", r.time);
   j.field("points", r.points);
-  j.field("converged", r.result.converged);
-  j.field("attempts", r.attempts);
-  if (!r.result.converged) j.field("failure", r.result.failure);
+  j.field("outcome", toString(r.outcome));
+  j.field("found_by", r.found_by);
+  j.field("registrations", r.registrations);
+  if (r.outcome == Outcome::Lost) j.field("failure", r.result.failure);
+  if (const auto e = errorOf(r)) {
+    j.field("error_m", e->translation);
+    j.field("error_deg", e->rotation);
+  }
   j.field("score", r.result.score);
   j.field("matched_fraction", r.result.matched_fraction);
-  j.field("seconds", r.result.seconds);
-  j.field("pyramid_rebuilt", r.result.pyramid_rebuilt);
-  writePose(j, "pose_xyz_qxyzw", r.pose);
-  writePose(j, "prediction_xyz_qxyzw", r.prediction);
+  j.field("seconds", r.seconds);
+  if (r.pose) writePose(j, "pose_xyz_qxyzw", *r.pose);
+  if (r.prediction) writePose(j, "prediction_xyz_qxyzw", *r.prediction);
+  if (r.reference) writePose(j, "reference_xyz_qxyzw", *r.reference);
   j.beginArray("levels");
   for (const ndtom::LevelReport& l : r.result.levels) {
     j.beginObject();
@@ -64,10 +76,10 @@ void writeScan(mapper::JsonWriter& j, const ScanRecord& r) {
 
 std::string trajectoryTum(const TrackingResult& tracking) {
   std::ostringstream s;
-  s << std::setprecision(9);
   for (const ScanRecord& r : tracking.scans) {
-    const Eigen::Vector3d t = r.pose.translation();
-    const Eigen::Quaterniond q(r.pose.linear());
+    if (!r.pose || r.outcome == Outcome::Lost) continue;
+    const Eigen::Vector3d t = r.pose->translation();
+    const Eigen::Quaterniond q(r.pose->linear());
     s << std::fixed << std::setprecision(6) << r.time << std::setprecision(9) << ' ' << t.x()
       << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' '
       << q.w() << '\n';
@@ -78,7 +90,8 @@ std::string trajectoryTum(const TrackingResult& tracking) {
 std::string summaryJson(const LocalizeSummary& s) {
   const LocalizeOptions& o = *s.options;
   const TrackingResult& t = *s.tracking;
-  const std::vector<double> seconds = registrationSeconds(t);
+  const ndtom::RegistrationOptions& ro = o.tracking.registration;
+  const std::vector<double> seconds = scanSeconds(t);
   mapper::JsonWriter j;
   j.beginObject();
   j.field("map", o.map_path);
@@ -89,24 +102,40 @@ std::string summaryJson(const LocalizeSummary& s) {
   j.field("input", o.input);
   j.field("source", s.source_description);
   j.beginObject("registration");
-  j.field("method", ndtom::toString(o.registration.method));
+  j.field("method", ndtom::toString(ro.method));
   j.beginArray("level_factors");
-  for (const int f : o.registration.level_factors) j.field("", f);
+  for (const int f : ro.level_factors) j.field("", f);
   j.endArray();
-  j.field("outlier_ratio", o.registration.outlier_ratio);
-  j.field("max_iterations", o.registration.max_iterations);
-  j.field("min_range", o.registration.min_range);
-  j.field("max_range", o.registration.max_range);
-  j.field("max_points", o.registration.max_points);
-  j.field("min_matched_fraction", o.registration.min_matched_fraction);
-  j.field("planar", o.registration.planar);
-  j.field("threads", o.registration.threads);
+  j.field("outlier_ratio", ro.outlier_ratio);
+  j.field("max_iterations", ro.max_iterations);
+  j.field("min_range", ro.min_range);
+  j.field("max_range", ro.max_range);
+  j.field("max_points", ro.max_points);
+  j.field("min_matched_fraction", ro.min_matched_fraction);
+  j.field("planar", ro.planar);
+  j.field("threads", ro.threads);
   j.endObject();
+  j.field("initial_given", o.tracking.initial.has_value());
+  j.field("relocalize_after", o.tracking.relocalize_after);
+  j.field("prediction", t.odometry_used ? "odometry" : "constant velocity");
   j.field("scans", t.scans.size());
-  j.field("converged", t.converged());
-  j.field("failed", t.scans.size() - t.converged());
-  j.field("registration_seconds_median", mapper::percentile(seconds, 0.5));
-  j.field("registration_seconds_p95", mapper::percentile(seconds, 0.95));
+  j.field("localized", t.localized());
+  j.field("tracked", t.count(Outcome::Tracked));
+  j.field("recovered", t.count(Outcome::Recovered));
+  j.field("relocalized", t.count(Outcome::Relocalized));
+  j.field("lost", t.count(Outcome::Lost));
+  j.field("global_searches", t.global_searches);
+  if (const auto a = accuracyOf(t)) {
+    j.beginObject("accuracy");
+    j.field("scans", a->scans);
+    j.field("ate_rmse_m", a->rmse);
+    j.field("ate_max_m", a->max);
+    j.field("rotation_rmse_deg", a->rotation_rmse);
+    j.field("rotation_max_deg", a->rotation_max);
+    j.endObject();
+  }
+  j.field("scan_seconds_median", mapper::percentile(seconds, 0.5));
+  j.field("scan_seconds_p95", mapper::percentile(seconds, 0.95));
   j.field("scans_per_second", t.seconds > 0 ? double(t.scans.size()) / t.seconds : 0.0);
   j.field("tracking_seconds", t.seconds);
   j.field("total_seconds", s.total_seconds);
@@ -128,15 +157,21 @@ std::string summaryJson(const LocalizeSummary& s) {
 
 std::string summaryText(const LocalizeSummary& s) {
   const TrackingResult& t = *s.tracking;
-  const std::vector<double> seconds = registrationSeconds(t);
+  const std::vector<double> seconds = scanSeconds(t);
   std::ostringstream out;
   out << std::fixed << std::setprecision(1);
-  out << "localized " << t.converged() << " of " << t.scans.size() << " scans ("
-      << t.scans.size() - t.converged() << " failed) in " << s.map_resolution << " m cells";
-  out.precision(2);
-  out << " (" << s.map_gaussians << " Gaussians)\n"
-      << "registration: median " << 1e3 * mapper::percentile(seconds, 0.5) << " ms, p95 "
-      << 1e3 * mapper::percentile(seconds, 0.95) << " ms; "
+  out << "localized " << t.localized() << " of " << t.scans.size() << " scans ("
+      << t.count(Outcome::Lost) << " lost) in " << s.map_resolution << " m cells ("
+      << s.map_gaussians << " Gaussians): " << t.count(Outcome::Tracked) << " tracked, "
+      << t.count(Outcome::Recovered) << " recovered, " << t.count(Outcome::Relocalized)
+      << " found by global search\n";
+  if (const auto a = accuracyOf(t)) {
+    out << std::setprecision(3) << "error to the reference (" << a->scans << " scans): RMSE "
+        << a->rmse << " m, max " << a->max << " m; rotation RMSE " << a->rotation_rmse
+        << " deg, max " << a->rotation_max << " deg\n";
+  }
+  out << std::setprecision(2) << "per scan: median " << 1e3 * mapper::percentile(seconds, 0.5)
+      << " ms, p95 " << 1e3 * mapper::percentile(seconds, 0.95) << " ms; "
       << (t.seconds > 0 ? double(t.scans.size()) / t.seconds : 0.0) << " scans/s with reading; "
       << "total " << s.total_seconds << " s, peak memory " << double(s.peak_rss) / (1 << 20)
       << " MiB\n";
@@ -148,8 +183,20 @@ void writeTrajectoryOutputs(const ndtom::NdtMap& map, const TrackingResult& trac
                             const LocalizeOptions& options, mapper::OutputFiles& out) {
   out.writeBytes("trajectory", ".tum", trajectoryTum(tracking));
   if (!options.pictures) return;
-  std::vector<Eigen::Vector3d> path;
-  for (const ScanRecord& r : tracking.scans) path.push_back(r.pose.translation());
+  mapper::ColouredPath path;
+  const bool errors = accuracyOf(tracking).has_value();
+  for (const ScanRecord& r : tracking.scans) {
+    if (r.reference) path.reference.push_back(r.reference->translation());
+    if (!r.pose) continue;
+    path.points.push_back(r.pose->translation());
+    const auto e = errorOf(r);
+    path.colours.push_back(r.outcome == Outcome::Lost ? cv::Scalar(255, 0, 255)
+                           : e                        ? errorColour(e->translation)
+                                                      : cv::Scalar(0, 0, 0));
+  }
+  path.legend = errors ? "path coloured by error to the reference (thin grey): green <= 5 cm, "
+                         "yellow 10 cm, red >= 15 cm, magenta lost; start o"
+                       : "black: localized path from o, magenta: lost scans";
   out.writeBytes("top_view", ".top.png",
                  mapper::pngBytes(mapper::renderTopView(map, mapper::heightScaleOf(map), path,
                                                         options.image_width)));

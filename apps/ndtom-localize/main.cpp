@@ -10,6 +10,7 @@
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/run_program.h"
 #include "tracking.h"
+#include "trajectory_poses.h"
 
 using namespace ndtom::localizer;
 using ndtom::mapper::InputError;
@@ -38,6 +39,7 @@ int run(const LocalizeOptions& o) {
   settings.pose_format = o.pose_format;
   settings.decimation = o.decimation;
   settings.max_scans = o.max_scans;
+  settings.pose_time_tolerance = o.pose_time_tolerance;
   settings.poses_optional = true;
   auto source = ndtom::mapper::openScanSource(settings);
   ndtom::mapper::OutputFiles out(o.prefix);
@@ -49,8 +51,21 @@ int run(const LocalizeOptions& o) {
     throw InputError(o.map_path + ": the map has no occupied cell with a Gaussian to localize in");
   if (!o.quiet) std::fprintf(stderr, "ndtom-localize: %s\n", source->description().c_str());
 
+  std::optional<ndtom::mapper::TrajectoryPoses> reference;
+  if (!o.reference_file.empty())
+    reference.emplace(o.reference_file, o.reference_format, o.reference_time_tolerance);
+  const ReferenceLookup lookup = [&](size_t index,
+                                     double time) -> std::optional<Eigen::Isometry3d> {
+    if (!reference) return std::nullopt;
+    try {
+      return reference->poseFor(index, time);
+    } catch (const std::exception&) {  // no pose for this scan: no error for it
+      return std::nullopt;
+    }
+  };
+
   ndtom::apps::Progress progress(!o.quiet);
-  const TrackingResult tracking = track(map, *source, *o.initial, o.registration, progress);
+  const TrackingResult tracking = track(map, *source, o.tracking, lookup, progress);
   if (tracking.scans.empty()) throw InputError(o.input + ": no scans");
   writeTrajectoryOutputs(map, tracking, o, out);
 

@@ -1,43 +1,71 @@
-// The localization loop: every scan of a source registered in the map, from the previous
-// result moved by constant velocity.
+// The localization loop: every scan of a source registered in the map. Each scan starts from
+// a prediction (the log's odometry where it has some, else constant velocity); a failed
+// registration is retried from the last pose, then by a search around the prediction; a
+// scan none of that places is lost. Without an initial pose, and after a run of lost scans
+// if asked, the scan is searched for in the whole map (global localization).
 #pragma once
 
 #include <Eigen/Geometry>
-#include <memory>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "ndtom/global_localization.h"
 #include "ndtom/registration.h"
 #include "ndtom_apps/progress.h"
 #include "scan_source.h"
 
 namespace ndtom::localizer {
 
-/// What became of one scan.
+struct TrackingSettings {
+  ndtom::RegistrationOptions registration;
+  ndtom::GlobalSearchOptions global;
+  std::optional<Eigen::Isometry3d> initial;  ///< none: global localization of the first scan
+  int relocalize_after = 0;       ///< lost scans in a row before a global search; 0: never
+  double recovery_radius = 4.0;   ///< m, of the search around the prediction
+  double recovery_yaw_deg = 60;   ///< ± around the prediction's yaw
+};
+
+/// How a scan's pose was found.
+enum class Outcome { Tracked, Recovered, Relocalized, Lost };
+const char* toString(Outcome outcome);
+
 struct ScanRecord {
   size_t index = 0;
   std::string name;
   double time = 0;
   size_t points = 0;  ///< read (after decimation)
-  Eigen::Isometry3d prediction = Eigen::Isometry3d::Identity();
-  /// Registrations tried: from the prediction, then (if that failed) from the last pose,
-  /// since constant velocity misleads on a jerky platform.
-  int attempts = 0;
-  ndtom::RegistrationResult result;  ///< of the last attempt
-  /// The pose kept: the registration's if it converged, else the prediction.
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  Outcome outcome = Outcome::Lost;
+  /// What found the pose: "prediction", "last pose", "local search", "global search" or "".
+  std::string found_by;
+  int registrations = 0;  ///< runs of the registration (a search counts its refinements)
+  std::optional<Eigen::Isometry3d> prediction;  ///< none before the first pose is known
+  ndtom::RegistrationResult result;             ///< of the registration that decided
+  /// The pose kept: the registration's if it converged, else the prediction (if any).
+  std::optional<Eigen::Isometry3d> pose;
+  std::optional<Eigen::Isometry3d> reference;  ///< from the input or --reference
+  double seconds = 0;                          ///< localizing this scan (reading excluded)
 };
 
 struct TrackingResult {
   std::vector<ScanRecord> scans;
   double seconds = 0;  ///< wall time of the whole loop (reading included)
-  size_t converged() const;
+  size_t count(Outcome outcome) const;
+  size_t localized() const { return scans.size() - count(Outcome::Lost); }
+  bool odometry_used = false;
+  size_t global_searches = 0;
 };
 
-/// Registers every scan of `source` in `map`, from the constant-velocity prediction and, if
-/// that fails, from the last pose. Throws mapper::InputError for unreadable data.
+/// A pose for a scan from elsewhere (a --reference trajectory), by scan index and time.
+using ReferenceLookup =
+    std::function<std::optional<Eigen::Isometry3d>(size_t index, double time)>;
+
+/// Localizes every scan of `source` in `map`. The reference is the input's own trajectory
+/// where it is one (Scan::PoseKind::Reference), else `reference` if given. Throws
+/// mapper::InputError for unreadable data.
 TrackingResult track(const ndtom::NdtMap& map, mapper::ScanSource& source,
-                     const Eigen::Isometry3d& initial, const ndtom::RegistrationOptions& options,
+                     const TrackingSettings& settings, const ReferenceLookup& reference,
                      apps::Progress& progress);
 
 }  // namespace ndtom::localizer

@@ -23,7 +23,7 @@ std::unique_ptr<ScanSource> openScanSource(const SourceSettings& settings) {
 }
 
 std::vector<Eigen::Vector3d> pointsInFrame(const Scan& scan) {
-  if (!scan.has_pose) return scan.points_world;
+  if (scan.pose_kind == Scan::PoseKind::None) return scan.points_world;
   const Eigen::Isometry3d world_to_frame = scan.frame_pose.inverse();
   std::vector<Eigen::Vector3d> out;
   out.reserve(scan.points_world.size());

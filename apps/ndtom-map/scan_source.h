@@ -26,10 +26,13 @@ struct Scan {
   std::vector<Eigen::Vector3d> points_world;                ///< (m)
   Eigen::Vector3d sensor_origin = Eigen::Vector3d::Zero();  ///< (m)
   /// The frame the points were measured in, in the world: the sensor's (PCD, TUM) or the
-  /// robot's (rawlog, simplemap: the sensor's pose on the robot already applied). Identity,
-  /// with has_pose false, where the input gives none (SourceSettings::poses_optional).
+  /// robot's (rawlog, simplemap: the sensor's pose on the robot already applied). Identity
+  /// where the input gives none (SourceSettings::poses_optional).
   Eigen::Isometry3d frame_pose = Eigen::Isometry3d::Identity();
-  bool has_pose = true;
+  /// Where frame_pose comes from: a trajectory given as such (PCD poses, TUM ground truth,
+  /// simplemap keyframes, --poses), the log's odometry (it drifts), or nothing.
+  enum class PoseKind { Reference, Odometry, None };
+  PoseKind pose_kind = PoseKind::Reference;
   double time = 0;   ///< seconds (the scan's index where the input has no time)
   std::string name;  ///< for messages: a file name or "observation 12"
 };

@@ -93,7 +93,7 @@ class PcdFolderSource : public ScanSource {
     scan.name = files_[index_];
     scan.time = has_pose ? poses_[index_].time : times_[index_];
     scan.frame_pose = sensor_to_world;
-    scan.has_pose = has_pose;
+    scan.pose_kind = has_pose ? Scan::PoseKind::Reference : Scan::PoseKind::None;
     scan.sensor_origin = sensor_to_world * cloud.viewpoint.translation();
     scan.points_world.reserve(cloud.points.size() / decimation_ + 1);
     for (size_t i = 0; i < cloud.points.size(); i += decimation_)

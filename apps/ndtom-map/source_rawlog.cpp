@@ -45,7 +45,9 @@ class RawlogSource : public ScanSource {
       }
       ++yielded_;
       Scan scan = toScan(*entry, pose ? toCPose3D(*pose) : mrpt::poses::CPose3D(), index);
-      scan.has_pose = pose.has_value();
+      scan.pose_kind = !pose         ? Scan::PoseKind::None
+                       : trajectory_ ? Scan::PoseKind::Reference
+                                     : Scan::PoseKind::Odometry;
       return scan;
     }
     return std::nullopt;

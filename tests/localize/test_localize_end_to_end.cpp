@@ -81,7 +81,7 @@ TEST(LocalizeEndToEnd, TracksHeldOutScansToTheirReferencePoses) {
               " --threads 2 --method " + method + " --initial " + mapper_test::quoted(tumPose(f.offStart())),
           f.dir);
       ASSERT_EQ(run.exit_code, 0) << run.err;
-      EXPECT_NE(run.out.find("localized 5 of 5 scans (0 failed)"), std::string::npos) << run.out;
+      EXPECT_NE(run.out.find("localized 5 of 5 scans (0 lost)"), std::string::npos) << run.out;
       EXPECT_NE(run.err.find("PCD folder"), std::string::npos);
       const auto estimated = ndtom::io::readPoseFile(prefix + ".tum", ndtom::io::PoseFormat::Tum);
       ASSERT_EQ(estimated.size(), 5u);
@@ -94,7 +94,7 @@ TEST(LocalizeEndToEnd, TracksHeldOutScansToTheirReferencePoses) {
       }
       const std::string json = readText(prefix + ".summary.json");
       EXPECT_EQ(jsonNumber(json, "scans"), 5);
-      EXPECT_EQ(jsonNumber(json, "converged"), 5);
+      EXPECT_EQ(jsonNumber(json, "tracked") + jsonNumber(json, "recovered"), 5);
       EXPECT_EQ(jsonNumber(json, "resolution", "per_scan"), 3.2);  // the coarsest level first
       EXPECT_TRUE(fs::exists(prefix + ".top.png"));
     }
@@ -112,10 +112,62 @@ TEST(LocalizeEndToEnd, ScansOutsideTheMapAreReportedNotTracked) {
                         " --no-pictures --initial " + mapper_test::quoted(tumPose(far)),
                     f.dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_NE(run.out.find("localized 0 of 5 scans (5 failed)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("localized 0 of 5 scans (5 lost)"), std::string::npos) << run.out;
   const std::string json = readText(prefix + ".summary.json");
-  EXPECT_EQ(jsonNumber(json, "failed"), 5);
+  EXPECT_EQ(jsonNumber(json, "lost"), 5);
   EXPECT_NE(json.find("\"failure\": \"only"), std::string::npos);
+  EXPECT_NE(json.find("search around the prediction"), std::string::npos);
+  EXPECT_EQ(readText(prefix + ".tum"), "");  // no pose is claimed
+}
+
+TEST(LocalizeEndToEnd, WithoutAStartPoseTheFirstScanIsSearchedForAndErrorsReported) {
+  Fixture f;
+  // The reference for scans 5-9 (KITTI, line i = i-th scan of the folder).
+  const std::string reference = (f.dir / "reference.txt").string();
+  {
+    std::ifstream in(kLidar + "/poses.txt");
+    std::ofstream out(reference);
+    std::string line;
+    for (int i = 0; std::getline(in, line); ++i)
+      if (i >= 5) out << line << "\n";
+  }
+  const std::string prefix = (f.dir / "global").string();
+  const ProgramRun run = runExecutable(
+      kLocalize, mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
+                     " -o " + mapper_test::quoted(prefix) + " --reference " +
+                     mapper_test::quoted(reference),
+      f.dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("localized 5 of 5 scans (0 lost)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("1 found by global search"), std::string::npos) << run.out;
+  const std::string json = readText(prefix + ".summary.json");
+  EXPECT_EQ(jsonNumber(json, "relocalized"), 1);
+  EXPECT_EQ(jsonNumber(json, "scans", "accuracy"), 5);
+  EXPECT_LT(jsonNumber(json, "ate_rmse_m"), 0.05);
+  EXPECT_LT(jsonNumber(json, "rotation_max_deg"), 0.5);
+  EXPECT_NE(json.find("\"found_by\": \"global search\""), std::string::npos);
+}
+
+TEST(LocalizeEndToEnd, AKidnappedStartIsFoundAgainAfterLostScans) {
+  Fixture f;
+  Eigen::Isometry3d kidnapped = f.offStart();
+  kidnapped.translation() += Eigen::Vector3d(25, -15, 0);  // far beyond the local search
+  const std::string prefix = (f.dir / "kidnap").string();
+  const ProgramRun run = runExecutable(
+      kLocalize, mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
+                     " -o " + mapper_test::quoted(prefix) + " --relocalize 1 --initial " +
+                     mapper_test::quoted(tumPose(kidnapped)),
+      f.dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string json = readText(prefix + ".summary.json");
+  EXPECT_EQ(jsonNumber(json, "lost"), 1);  // the first scan, from the wrong start
+  EXPECT_EQ(jsonNumber(json, "relocalized"), 1);
+  EXPECT_EQ(jsonNumber(json, "localized"), 4);
+  const auto estimated = ndtom::io::readPoseFile(prefix + ".tum", ndtom::io::PoseFormat::Tum);
+  ASSERT_EQ(estimated.size(), 4u);  // lost scans have no line
+  for (size_t k = 0; k < 4; ++k)
+    EXPECT_LT((estimated[k].pose.translation() - f.reference[6 + k].pose.translation()).norm(),
+              0.05);
 }
 
 TEST(LocalizeEndToEnd, BadCommandLinesAndInputsFailCleanly) {
@@ -128,7 +180,10 @@ TEST(LocalizeEndToEnd, BadCommandLinesAndInputsFailCleanly) {
     std::string message;
   };
   const std::vector<Case> cases = {
-      {mapper_test::quoted(f.map) + " " + io, 2, "missing --initial"},
+      {mapper_test::quoted(f.map) + " " + io + " --relocalize 0", 2, "--relocalize"},
+      {mapper_test::quoted(f.map) + " " + io + " --reference-format xyz", 2, "--reference-format"},
+      {mapper_test::quoted(f.map) + " " + io + " --reference " +
+           mapper_test::quoted((f.dir / "no-such-poses.txt").string()), 2, "no-such-poses.txt"},
       {mapper_test::quoted(f.map) + " " + io + " --initial '1 2 3'", 2, "expected 7 numbers"},
       {mapper_test::quoted(f.map) + " " + io + start + " --method icp", 2, "--method"},
       {mapper_test::quoted(f.map) + " " + io + start + " --levels 1,2", 2, "level_factors"},
