@@ -123,6 +123,11 @@ const std::map<std::string, OptionSpec>& optionTable() {
         [](O& o, const std::string& v) {
           o.tracking.registration.min_matched_fraction = parseReal("--min-matched-fraction", v);
         }}},
+      {"--max-free-fraction",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.registration.max_free_fraction = parseReal("--max-free-fraction", v);
+        }}},
       {"--planar", {false, [](O& o, const std::string&) { o.tracking.registration.planar = true; }}},
       {"--threads",
        {true,
@@ -259,6 +264,7 @@ std::string helpText() {
       "  --max-iterations N        Newton iterations per level (30)\n"
       "  --outlier-ratio R         the score's outlier fraction, in (0, 1) (0.55)\n"
       "  --min-matched-fraction F  verdict: matched part of the scan, in [0, 1] (0.4)\n"
+      "  --max-free-fraction F     verdict: scan share in open free space, at most (0.05)\n"
       "  --planar                  only x, y and yaw change (2D)\n"
       "  --threads N               threads; the result is the same for any (all cores)\n"
       "\n"

@@ -51,6 +51,7 @@ void writeScan(mapper::JsonWriter& j, const ScanRecord& r) {
   }
   j.field("score", r.result.score);
   j.field("matched_fraction", r.result.matched_fraction);
+  j.field("free_fraction", r.result.free_fraction);
   j.field("seconds", r.seconds);
   if (r.pose) writePose(j, "pose_xyz_qxyzw", *r.pose);
   if (r.prediction) writePose(j, "prediction_xyz_qxyzw", *r.prediction);
@@ -112,6 +113,7 @@ std::string summaryJson(const LocalizeSummary& s) {
   j.field("max_range", ro.max_range);
   j.field("max_points", ro.max_points);
   j.field("min_matched_fraction", ro.min_matched_fraction);
+  j.field("max_free_fraction", ro.max_free_fraction);
   j.field("planar", ro.planar);
   j.field("threads", ro.threads);
   j.endObject();

@@ -134,6 +134,7 @@ TEST(NdtRegistrationMrpt, OptionsRoundTripThroughIniText) {
   o.core.max_points = 1234;
   o.core.max_range = 40;
   o.core.planar = true;
+  o.core.max_free_fraction = 0.2;
   o.core.threads = 2;
   mrpt::config::CConfigFileMemory ini;
   o.saveToConfigFile(ini, "NDT");
@@ -146,6 +147,7 @@ TEST(NdtRegistrationMrpt, OptionsRoundTripThroughIniText) {
   EXPECT_EQ(back.core.max_points, o.core.max_points);
   EXPECT_EQ(back.core.max_range, o.core.max_range);
   EXPECT_EQ(back.core.planar, o.core.planar);
+  EXPECT_EQ(back.core.max_free_fraction, o.core.max_free_fraction);
   EXPECT_EQ(back.core.threads, o.core.threads);
 
   const std::vector<std::pair<std::string, std::string>> bad = {
@@ -153,6 +155,7 @@ TEST(NdtRegistrationMrpt, OptionsRoundTripThroughIniText) {
       {"level_factors = 4 x", "level_factors"}, {"outlier_ratio = 1", "outlier_ratio"},
       {"max_iterations = 1e3", "max_iterations"}, {"threads = 0", "threads"},
       {"max_points = 3", "max_points"},     {"min_matched_fraction = 2", "min_matched_fraction"},
+      {"max_free_fraction = -1", "max_free_fraction"},
   };
   for (const auto& [body, option] : bad) {
     CNDTRegistration::TConfigParams p;

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <random>
 
 #include "core/synthetic_room.h"
 #include "ndtom/registration.h"
@@ -273,6 +274,34 @@ TEST(Registration, FreeSpaceAttractsNothing) {
   const GaussianLookup& level = registration.pyramid()->level(0);
   for (const Vector3d& p : wall) EXPECT_EQ(level.find(map.geometry().cellOf(p)), nullptr);
   EXPECT_NE(level.find(map.geometry().cellOf(behind[100])), nullptr);
+}
+
+TEST(Registration, ScanPointsInOpenFreeSpaceFailTheVerdict) {
+  // The room's map knows its inside is free. A scan of the room with points spread through
+  // a 2 x 2 x 1 m volume in its middle (objects the map never had) still aligns; with 0.5 %
+  // of its points there it is accepted, with 25 % the verdict names the free space.
+  const NdtMap map = room::roomMap(0.2, 200000);
+  const Isometry3d truth = poseOf(room::kRoomSensor, 0, Vector3d::UnitZ());
+  for (const double share : {0.005, 0.25}) {
+    std::vector<Vector3d> world = room::sampleRoom(20000, 8, 0.0);
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> u(0, 1);
+    const size_t floating = size_t(share / (1 - share) * double(world.size()));
+    for (size_t i = 0; i < floating; ++i)
+      world.emplace_back(-2.5 + 2 * u(rng), -1.5 + 2 * u(rng), 0.8 + u(rng));
+    RegistrationOptions o;
+    o.max_points = 100000;
+    NdtRegistration registration(o);
+    const RegistrationResult r =
+        registration.align(map, inSensorFrame(world, truth), truth * poseOf(Vector3d(0.05, 0, 0), 0, Vector3d::UnitZ()));
+    EXPECT_LT(translationError(r.pose, truth), 0.01) << share;
+    // (Fractions of the scan's voxels, not points: the floating points are spread thinner.)
+    EXPECT_EQ(r.free_fraction < 0.03, share < 0.1) << share << ": " << r.free_fraction;
+    EXPECT_EQ(r.converged, share < 0.1) << share << ": " << r.failure;
+    if (!r.converged) {
+      EXPECT_NE(r.failure.find("open space"), std::string::npos) << r.failure;
+    }
+  }
 }
 
 TEST(Registration, BadInputIsRejectedAndChangesNothing) {

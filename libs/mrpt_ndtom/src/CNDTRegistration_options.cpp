@@ -56,6 +56,7 @@ void CNDTRegistration::TConfigParams::loadFromConfigFile(
                                             (long long)o.max_points, 10, 100000000));
   o.min_matched_fraction =
       source.read_double(section, "min_matched_fraction", o.min_matched_fraction);
+  o.max_free_fraction = source.read_double(section, "max_free_fraction", o.max_free_fraction);
   o.planar = source.read_bool(section, "planar", o.planar);
   o.threads = int(detail::readInteger(source, section, "threads", o.threads, 1,
                                       ndtom::InsertOptions::kMaxThreads));
@@ -91,6 +92,8 @@ void CNDTRegistration::TConfigParams::saveToConfigFile(mrpt::config::CConfigFile
           mrpt::config::MRPT_SAVE_VALUE_PADDING(), "P2D: scan points per level at most");
   c.write(s, "min_matched_fraction", o.min_matched_fraction, mrpt::config::MRPT_SAVE_NAME_PADDING(),
           mrpt::config::MRPT_SAVE_VALUE_PADDING(), "Verdict: matched part of the scan, in [0, 1]");
+  c.write(s, "max_free_fraction", o.max_free_fraction, mrpt::config::MRPT_SAVE_NAME_PADDING(),
+          mrpt::config::MRPT_SAVE_VALUE_PADDING(), "Verdict: scan share in open free space, at most");
   c.write(s, "planar", o.planar, mrpt::config::MRPT_SAVE_NAME_PADDING(),
           mrpt::config::MRPT_SAVE_VALUE_PADDING(), "Only x, y, yaw (2D)");
   c.write(s, "threads", o.threads, mrpt::config::MRPT_SAVE_NAME_PADDING(),

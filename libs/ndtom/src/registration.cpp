@@ -44,6 +44,36 @@ Eigen::Isometry3d rigidGuess(const Eigen::Isometry3d& guess) {
   return out;
 }
 
+/// Whether `cell` is known free and none of the 26 around it is occupied: open space, where a
+/// right pose puts only moving objects. (A free cell beside a surface is no evidence: rays
+/// that grazed the surface freed it, and the scan's noise reaches it.)
+bool inOpenFreeSpace(const NdtMap& map, const CellIndex& cell) {
+  const auto c = map.cell(cell);
+  if (!c || !(c->logodds < 0.f)) return false;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const auto n = map.cell({cell.x + dx, cell.y + dy, cell.z + dz});
+        if (n && n->logodds > 0.f) return false;
+      }
+  return true;
+}
+
+/// The fraction of the level's scan items (points or Gaussian means) that `pose` puts in open
+/// free space; 0 for a map without occupancy.
+double freeFraction(const NdtMap& map, const registration::ScanLevel& level,
+                    const Eigen::Isometry3d& pose) {
+  if (!map.options().occupancy.enabled || level.size() == 0) return 0;
+  size_t free = 0;
+  auto count = [&](const Eigen::Vector3d& item) {
+    const Eigen::Vector3d p = pose * item;
+    free += map.geometry().inRange(p) && inOpenFreeSpace(map, map.geometry().cellOf(p));
+  };
+  for (const Eigen::Vector3d& p : level.points) count(p);
+  for (const registration::ScanGaussian& g : level.gaussians) count(g.mean);
+  return double(free) / double(level.size());
+}
+
 /// Finite points within the range limits whose cells the finest grid can index.
 std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& scan,
                                           const RegistrationOptions& o, double finest_cell) {
@@ -123,6 +153,8 @@ void validate(const RegistrationOptions& o) {
   if (o.max_points < 10) fail("max_points", double(o.max_points), "must be >= 10");
   if (!(o.min_matched_fraction >= 0 && o.min_matched_fraction <= 1))
     fail("min_matched_fraction", o.min_matched_fraction, "must be in [0, 1]");
+  if (!(o.max_free_fraction >= 0 && o.max_free_fraction <= 1))
+    fail("max_free_fraction", o.max_free_fraction, "must be in [0, 1]");
   if (!(o.threads >= 1 && o.threads <= InsertOptions::kMaxThreads))
     fail("threads", o.threads, "must be in [1, 256]");
 }
@@ -229,6 +261,7 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   const LevelReport& last = result.levels.back();
   result.score = last.score;
   result.matched_fraction = last.matched_fraction;
+  result.free_fraction = freeFraction(map, levels.back(), result.pose);
   // Covariance over the free parameters; fixed ones get zero rows and columns.
   const std::array<bool, 6> free = freeParameters(o.planar);
   const PoseInformation info = finest->information(result.pose);
@@ -256,6 +289,11 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
     std::ostringstream why;
     why << "only " << last.matched_fraction << " of the scan matched the map (min_matched_fraction "
         << o.min_matched_fraction << ")";
+    result.failure = why.str();
+  } else if (result.free_fraction > o.max_free_fraction) {
+    std::ostringstream why;
+    why << result.free_fraction << " of the scan lies in open space the map has seen free "
+        << "(max_free_fraction " << o.max_free_fraction << ")";
     result.failure = why.str();
   } else if (!constrained) {
     result.failure = "the matched part of the scan does not constrain all six degrees of freedom";

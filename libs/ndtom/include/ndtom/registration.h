@@ -57,8 +57,13 @@ struct RegistrationOptions {
   /// ... and to at most this many of them per level, evenly spread (Default: 6000).
   size_t max_points = 6000;
   /// Verdict: the fraction of scan points (P2D) or scan Gaussians (D2D) within 3σ of a map
-  /// Gaussian at the finest level must reach this (Default: 0.4).
+  /// Gaussian at the finest level must reach this (Default: 0.4) ...
   double min_matched_fraction = 0.4;
+  /// ... and at most this fraction of them may lie in open free space: cells the map has seen
+  /// free (log-odds < 0) with no occupied cell among the 26 around them. A scan slid along a
+  /// repetitive structure puts its points there, a right pose only those of moving objects
+  /// (Default: 0.05; 1 disables the check).
+  double max_free_fraction = 0.05;
   /// Only x, y and the rotation about the map's z axis change; z, roll and pitch stay as
   /// guessed: for 2D scans and robots on flat ground (Default: false).
   bool planar = false;
@@ -90,8 +95,9 @@ struct RegistrationResult {
   std::vector<LevelReport> levels;  ///< coarse to fine
   double score = 0;                 ///< finest level's score per scan item
   double matched_fraction = 0;      ///< finest level's
-  /// The verdict: the finest level converged and matched enough of the scan. When false,
-  /// `pose` is the last estimate and `failure` says why.
+  double free_fraction = 0;         ///< of the finest level's scan items, in open free space
+  /// The verdict: the finest level converged, matched enough of the scan and put little of
+  /// it in free space. When false, `pose` is the last estimate and `failure` says why.
   bool converged = false;
   std::string failure;
   double seconds = 0;  ///< the whole call, pyramid (re)building included

@@ -75,6 +75,8 @@ PoseInformation NdtObjective::information(const Eigen::Isometry3d& pose) const {
 // P2D (Magnusson 2009, eq. 6.12-6.13, in our parameters): f = d1·exp(−d2/2·s), s = eᵀCe,
 // e = y − μ, y = q + t, q = R·x. With a = Ce and j = (a, q × a):
 //   ∇f = −d2·f·j,   ∇²f = d2·f·[d2·j·jᵀ − JᵀCJ − diag(0, ½(a·qᵀ + q·aᵀ) − (a·q)·I)].
+// A point's terms share J = [I | −[q]×], so the second and third parts are summed over the
+// point's Gaussians first (Σ d2·f·C and Σ d2·f·a) and multiplied by J once per point.
 void NdtObjective::scorePoint(const Eigen::Isometry3d& pose, size_t i, bool derivatives,
                               ObjectiveValue& out) const {
   const Vector3d q = pose.linear() * scan_.points[i];
@@ -83,6 +85,8 @@ void NdtObjective::scorePoint(const Eigen::Isometry3d& pose, size_t i, bool deri
   if (!map_.geometry().inRange(y)) return;
   const double s_max = 2 * kMaxExponent / k_.d2;
   bool matched = false;
+  Matrix3d weighted_c = Matrix3d::Zero();  // Σ d2·f·C
+  Vector3d weighted_a = Vector3d::Zero();   // Σ d2·f·a
   map_.forEachAround(map_.geometry().cellOf(y), [&](const PreparedGaussian& g) {
     const Vector3d e = y - g.mean;
     if (e.squaredNorm() > s_max * g.max_variance) return;  // s ≥ |e|²/λ_max > s_max
@@ -95,13 +99,18 @@ void NdtObjective::scorePoint(const Eigen::Isometry3d& pose, size_t i, bool deri
     if (!derivatives) return;
     Vector6d j;
     j << a, q.cross(a);
-    out.gradient -= (k_.d2 * f) * j;
-    Matrix6d h = k_.d2 * j * j.transpose() - pointInformation(g.information, q);
-    h.bottomRightCorner<3, 3>() -=
-        0.5 * (a * q.transpose() + q * a.transpose()) - a.dot(q) * Matrix3d::Identity();
-    out.hessian += (k_.d2 * f) * h;
+    const double w = k_.d2 * f;
+    out.gradient -= w * j;
+    out.hessian.noalias() += (w * k_.d2) * j * j.transpose();
+    weighted_c += w * g.information;
+    weighted_a += w * a;
   });
   out.matched += matched;
+  if (!derivatives || weighted_a.isZero(0.0)) return;
+  out.hessian -= pointInformation(weighted_c, q);
+  out.hessian.bottomRightCorner<3, 3>() -=
+      0.5 * (weighted_a * q.transpose() + q * weighted_a.transpose()) -
+      weighted_a.dot(q) * Matrix3d::Identity();
 }
 
 // D2D (Stoyanov et al. 2012), scan Gaussian (μ, Σ) against map Gaussian (μⱼ, Σⱼ): m = q + t − μⱼ
