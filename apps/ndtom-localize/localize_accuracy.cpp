@@ -6,7 +6,7 @@
 namespace ndtom::localizer {
 
 std::optional<PoseError> errorOf(const ScanRecord& scan) {
-  if (!scan.pose || !scan.reference) return std::nullopt;
+  if (!scan.pose || !scan.reference || scan.outcome == Outcome::Lost) return std::nullopt;
   const Eigen::Isometry3d& p = *scan.pose;
   const Eigen::Isometry3d& r = *scan.reference;
   return PoseError{(p.translation() - r.translation()).norm(),

@@ -14,16 +14,17 @@ struct PoseError {
   double rotation = 0;     ///< degrees, angle of R_refᵀ·R
 };
 
-/// The error of a scan's kept pose, if it has one and a reference.
+/// The error of a localized scan's pose, if it has a reference (lost scans are counted as
+/// lost, not by the error of their prediction).
 std::optional<PoseError> errorOf(const ScanRecord& scan);
 
 struct Accuracy {
-  size_t scans = 0;  ///< with a pose and a reference
+  size_t scans = 0;  ///< localized, with a reference
   double rmse = 0, max = 0;                    ///< translation (m)
   double rotation_rmse = 0, rotation_max = 0;  ///< degrees
 };
 
-/// Over the scans with a pose and a reference; nullopt if there are none.
+/// Over the localized scans with a reference; nullopt if there are none.
 std::optional<Accuracy> accuracyOf(const TrackingResult& tracking);
 
 }  // namespace ndtom::localizer

@@ -54,6 +54,11 @@ const std::map<std::string, OptionSpec>& optionTable() {
         [](O& o, const std::string& v) {
           o.max_scans = size_t(parseInteger("--max-scans", v, 1, int64_t(1) << 40));
         }}},
+      {"--skip",
+       {true,
+        [](O& o, const std::string& v) {
+          o.skip = size_t(parseInteger("--skip", v, 0, int64_t(1) << 40));
+        }}},
       {"--decimation",
        {true,
         [](O& o, const std::string& v) {
@@ -244,7 +249,8 @@ std::string helpText() {
       "  --format F                rawlog|simplemap|tum|pcd (default: told from the path)\n"
       "  --poses FILE              the input's poses where ndtom-map would need them\n"
       "  --pose-format F           auto|kitti|tum\n"
-      "  --max-scans N             only the first N scans\n"
+      "  --skip N                  leave out the first N scans\n"
+      "  --max-scans N             only the first N scans (after --skip)\n"
       "  --decimation N            1 point in N of each scan (1)\n"
       "\n"
       "Localization: the first scan is registered from --initial (without it, searched for in\n"

@@ -20,6 +20,7 @@ struct LocalizeOptions {
   std::string poses_file;  ///< the input's own poses (as ndtom-map reads them), if any
   ndtom::io::PoseFormat pose_format = ndtom::io::PoseFormat::Auto;
   double pose_time_tolerance = 0.02;
+  size_t skip = 0;          ///< scans read and left out first
   size_t max_scans = 0;     ///< first N scans; 0 = all
   uint32_t decimation = 1;  ///< 1 point in N of each scan read
 

@@ -38,7 +38,7 @@ int run(const LocalizeOptions& o) {
   settings.poses_file = o.poses_file;
   settings.pose_format = o.pose_format;
   settings.decimation = o.decimation;
-  settings.max_scans = o.max_scans;
+  settings.max_scans = o.max_scans == 0 ? 0 : o.skip + o.max_scans;
   settings.pose_time_tolerance = o.pose_time_tolerance;
   settings.poses_optional = true;
   auto source = ndtom::mapper::openScanSource(settings);
@@ -65,7 +65,9 @@ int run(const LocalizeOptions& o) {
   };
 
   ndtom::apps::Progress progress(!o.quiet);
-  const TrackingResult tracking = track(map, *source, o.tracking, lookup, progress);
+  for (size_t k = 0; k < o.skip; ++k)
+    if (!source->next()) throw InputError(o.input + ": fewer than --skip " + std::to_string(o.skip) + " scans");
+  const TrackingResult tracking = track(map, *source, o.tracking, lookup, progress, o.skip);
   if (tracking.scans.empty()) throw InputError(o.input + ": no scans");
   writeTrajectoryOutputs(map, tracking, o, out);
 

@@ -1,5 +1,6 @@
 #include "tracking.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "motion_prediction.h"
@@ -148,16 +149,16 @@ size_t TrackingResult::count(Outcome outcome) const {
 
 TrackingResult track(const ndtom::NdtMap& map, mapper::ScanSource& source,
                      const TrackingSettings& settings, const ReferenceLookup& reference,
-                     apps::Progress& progress) {
+                     apps::Progress& progress, size_t already_read) {
   const auto start = Clock::now();
   TrackingResult out;
   Tracker tracker(map, settings);
-  progress.start("localizing", source.size());
+  progress.start("localizing", source.size() - std::min(source.size(), already_read));
   size_t points_done = 0;
   while (auto scan = source.next()) {
     const auto scan_start = Clock::now();
     ScanRecord record;
-    record.index = out.scans.size();
+    record.index = already_read + out.scans.size();
     record.name = scan->name;
     record.time = scan->time;
     if (scan->pose_kind == PoseKind::Reference)

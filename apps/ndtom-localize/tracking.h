@@ -61,11 +61,12 @@ struct TrackingResult {
 using ReferenceLookup =
     std::function<std::optional<Eigen::Isometry3d>(size_t index, double time)>;
 
-/// Localizes every scan of `source` in `map`. The reference is the input's own trajectory
+/// Localizes every scan of `source` in `map` (`already_read` of them were taken before: left
+/// out, as --skip does). The reference is the input's own trajectory
 /// where it is one (Scan::PoseKind::Reference), else `reference` if given. Throws
 /// mapper::InputError for unreadable data.
 TrackingResult track(const ndtom::NdtMap& map, mapper::ScanSource& source,
                      const TrackingSettings& settings, const ReferenceLookup& reference,
-                     apps::Progress& progress);
+                     apps::Progress& progress, size_t already_read = 0);
 
 }  // namespace ndtom::localizer
