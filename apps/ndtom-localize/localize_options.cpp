@@ -71,6 +71,8 @@ const std::map<std::string, OptionSpec>& optionTable() {
         [](O& o, const std::string& v) {
           o.tracking.relocalize_after = int(parseInteger("--relocalize", v, 1, 1000000));
         }}},
+      {"--global-every-scan",
+       {false, [](O& o, const std::string&) { o.tracking.global_every_scan = true; }}},
       {"--recovery-radius",
        {true,
         [](O& o, const std::string& v) {
@@ -259,6 +261,7 @@ std::string helpText() {
       "last pose, then by a search around the prediction; a scan nothing places is lost.\n"
       "  --initial \"x y z qx qy qz qw\"   the first scan's pose in the map (TUM order)\n"
       "  --relocalize N            after N lost scans in a row, search the whole map (never)\n"
+      "  --global-every-scan       no tracking: search every scan in the whole map\n"
       "  --recovery-radius M       the search around the prediction: x, y within M m (4) and\n"
       "                            yaw within 60 degrees\n"
       "  --search-step M           x, y grid of the searches [m] (2)\n"
@@ -281,6 +284,7 @@ std::string helpText() {
       "\n"
       "Output:\n"
       "  -o, --output PREFIX       PREFIX.tum (t x y z qx qy qz qw per localized scan),\n"
+      "                            PREFIX.scans.csv (per scan: outcome, pose, error, time),\n"
       "                            PREFIX.summary.json (per scan: levels, iterations, score,\n"
       "                            matched fraction, outcome, error, time), PREFIX.top.png\n"
       "                            (the path on the map, coloured by error if known)\n"

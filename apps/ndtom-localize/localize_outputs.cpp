@@ -88,6 +88,30 @@ std::string trajectoryTum(const TrackingResult& tracking) {
   return s.str();
 }
 
+std::string scansCsv(const TrackingResult& tracking) {
+  std::ostringstream s;
+  s << "index,time,outcome,found_by,registrations,x,y,z,qx,qy,qz,qw,error_m,error_deg,"
+       "matched_fraction,free_fraction,seconds\n";
+  s << std::setprecision(9);
+  for (const ScanRecord& r : tracking.scans) {
+    s << r.index << ',' << std::fixed << std::setprecision(6) << r.time << std::defaultfloat
+      << std::setprecision(9) << ',' << toString(r.outcome) << ',' << r.found_by << ','
+      << r.registrations;
+    if (r.pose && r.outcome != Outcome::Lost) {
+      const Eigen::Vector3d t = r.pose->translation();
+      const Eigen::Quaterniond q(r.pose->linear());
+      for (const double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) s << ',' << v;
+    } else {
+      s << ",,,,,,,";
+    }
+    const auto e = errorOf(r);
+    s << ',' << (e ? std::to_string(e->translation) : "") << ','
+      << (e ? std::to_string(e->rotation) : "") << ',' << r.result.matched_fraction << ','
+      << r.result.free_fraction << ',' << r.seconds << '\n';
+  }
+  return s.str();
+}
+
 std::string summaryJson(const LocalizeSummary& s) {
   const LocalizeOptions& o = *s.options;
   const TrackingResult& t = *s.tracking;
@@ -119,6 +143,7 @@ std::string summaryJson(const LocalizeSummary& s) {
   j.endObject();
   j.field("initial_given", o.tracking.initial.has_value());
   j.field("relocalize_after", o.tracking.relocalize_after);
+  j.field("global_every_scan", o.tracking.global_every_scan);
   j.field("prediction", t.odometry_used ? "odometry" : "constant velocity");
   j.field("scans", t.scans.size());
   j.field("localized", t.localized());
@@ -184,6 +209,7 @@ std::string summaryText(const LocalizeSummary& s) {
 void writeTrajectoryOutputs(const ndtom::NdtMap& map, const TrackingResult& tracking,
                             const LocalizeOptions& options, mapper::OutputFiles& out) {
   out.writeBytes("trajectory", ".tum", trajectoryTum(tracking));
+  out.writeBytes("scans", ".scans.csv", scansCsv(tracking));
   if (!options.pictures) return;
   mapper::ColouredPath path;
   const bool errors = accuracyOf(tracking).has_value();

@@ -14,6 +14,9 @@ namespace ndtom::localizer {
 /// "t x y z qx qy qz qw" per scan, the kept pose (map frame), as TUM's tools read it.
 std::string trajectoryTum(const TrackingResult& tracking);
 
+/// One CSV row per scan: index, outcome, what found it, pose, error, verdict figures, time.
+std::string scansCsv(const TrackingResult& tracking);
+
 struct LocalizeSummary {
   const LocalizeOptions* options = nullptr;
   std::string source_description;
@@ -29,7 +32,7 @@ struct LocalizeSummary {
 std::string summaryJson(const LocalizeSummary& summary);
 std::string summaryText(const LocalizeSummary& summary);
 
-/// Stages PREFIX.tum and, if asked, PREFIX.top.png in `out`.
+/// Stages PREFIX.tum, PREFIX.scans.csv and, if asked, PREFIX.top.png in `out`.
 void writeTrajectoryOutputs(const ndtom::NdtMap& map, const TrackingResult& tracking,
                             const LocalizeOptions& options, mapper::OutputFiles& out);
 

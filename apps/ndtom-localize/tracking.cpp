@@ -30,7 +30,8 @@ class Tracker {
     const std::vector<Eigen::Vector3d> points = mapper::pointsInFrame(scan);
     record.points = points.size();
     const bool search_everywhere =
-        !localized_ || (settings_.relocalize_after > 0 && lost_in_a_row_ >= settings_.relocalize_after);
+        !localized_ || settings_.global_every_scan ||
+        (settings_.relocalize_after > 0 && lost_in_a_row_ >= settings_.relocalize_after);
     if (!search_everywhere) {
       record.prediction = predict(scan);
       track(points, record);

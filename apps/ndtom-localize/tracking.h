@@ -23,6 +23,7 @@ struct TrackingSettings {
   ndtom::GlobalSearchOptions global;
   std::optional<Eigen::Isometry3d> initial;  ///< none: global localization of the first scan
   int relocalize_after = 0;       ///< lost scans in a row before a global search; 0: never
+  bool global_every_scan = false;  ///< no tracking: every scan searched for in the whole map
   double recovery_radius = 4.0;   ///< m, of the search around the prediction
   double recovery_yaw_deg = 60;   ///< ± around the prediction's yaw
 };

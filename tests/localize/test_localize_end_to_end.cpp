@@ -97,6 +97,9 @@ TEST(LocalizeEndToEnd, TracksHeldOutScansToTheirReferencePoses) {
       EXPECT_EQ(jsonNumber(json, "tracked") + jsonNumber(json, "recovered"), 5);
       EXPECT_EQ(jsonNumber(json, "resolution", "per_scan"), 3.2);  // the coarsest level first
       EXPECT_TRUE(fs::exists(prefix + ".top.png"));
+      const std::string csv = readText(prefix + ".scans.csv");
+      EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6) << csv;  // header + 5 scans
+      EXPECT_NE(csv.find("\n9,"), std::string::npos) << csv;           // the last scan's index
     }
   }
 }
