@@ -12,6 +12,9 @@ using Clock = std::chrono::steady_clock;
 using PoseKind = mapper::Scan::PoseKind;
 
 // The scan's pose from the first registration start that converges, or nothing.
+// Every attempt runs the whole pyramid: starting the prediction's registration on the fine
+// levels alone cost twice the instructions over scans 30-59 (29 G vs 14.5 G, callgrind) as
+// the fine levels then iterate longer and more scans need the retries.
 struct Attempt {
   std::string name;
   Eigen::Isometry3d start;
@@ -66,8 +69,8 @@ class Tracker {
 
   void track(const std::vector<Eigen::Vector3d>& points, ScanRecord& record) {
     const Eigen::Isometry3d prediction = *record.prediction;
-    for (const Attempt& a : {Attempt{"prediction", prediction},
-                             Attempt{"last pose", motion_.lastPose()}}) {
+    for (const Attempt& a :
+         {Attempt{"prediction", prediction}, Attempt{"last pose", motion_.lastPose()}}) {
       if (a.name != "prediction" && a.start.isApprox(prediction)) continue;  // nothing new
       ++record.registrations;
       try {

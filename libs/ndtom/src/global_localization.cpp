@@ -208,7 +208,7 @@ void GlobalLocalizer::searchAmong(const NdtMap& map, const std::vector<Eigen::Ve
   std::vector<RegistrationResult> coarse;
   for (size_t i = 0; i < hypotheses.size() && result.refined < options_.refined; ++i) {
     ++result.refined;
-    RegistrationResult r = registration_.align(map, scan, hypotheses[i].pose, coarse_levels);
+    RegistrationResult r = registration_.align(map, scan, hypotheses[i].pose, {0, coarse_levels});
     if (!r.converged) continue;
     const auto same = std::find_if(coarse.begin(), coarse.end(), [&](const RegistrationResult& c) {
       return !farApart(c.pose, r.pose);

@@ -192,12 +192,12 @@ std::shared_ptr<const MapPyramid> NdtRegistration::pyramidFor(const NdtMap& map)
 RegistrationResult NdtRegistration::align(const NdtMap& map,
                                           const std::vector<Eigen::Vector3d>& scan,
                                           const Eigen::Isometry3d& guess) {
-  return align(map, scan, guess, options_.level_factors.size());
+  return align(map, scan, guess, Levels{});
 }
 
 RegistrationResult NdtRegistration::align(const NdtMap& map,
                                           const std::vector<Eigen::Vector3d>& scan,
-                                          const Eigen::Isometry3d& guess, size_t max_levels) {
+                                          const Eigen::Isometry3d& guess, Levels range) {
   using namespace registration;
   const auto start = Clock::now();
   const RegistrationOptions& o = options_;
@@ -208,9 +208,10 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   result.pyramid_rebuilt = pyramid != pyramid_;
   if (pyramid->level(pyramid->size() - 1).empty())
     throw std::invalid_argument("registration: the map has no occupied cell with a Gaussian");
+  const size_t end = std::min(range.end, pyramid->size());
+  const size_t begin = std::min(range.begin, end - 1);  // at least one level
   std::vector<double> resolutions;
-  for (size_t l = 0; l < std::min(pyramid->size(), std::max<size_t>(max_levels, 1)); ++l)
-    resolutions.push_back(pyramid->resolution(l));
+  for (size_t l = begin; l < end; ++l) resolutions.push_back(pyramid->resolution(l));
   const double finest_voxel =
       resolutions.back() * (o.method == RegistrationMethod::P2D ? o.voxel_ratio : 1.0);
   const std::vector<Eigen::Vector3d> points = usablePoints(scan, o, finest_voxel);
@@ -232,13 +233,15 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   for (size_t l = 0; l < levels.size(); ++l) {
     const auto level_start = Clock::now();
     const double res = resolutions[l];
-    objectives.emplace_back(pyramid->level(l), levels[l], o.method,
+    const size_t level = begin + l;  // in the pyramid
+    objectives.emplace_back(pyramid->level(level), levels[l], o.method,
                             scoreConstants(res, o.outlier_ratio), state_->pool, o.threads);
     finest = &objectives.back();
     NewtonSettings settings;
     settings.max_iterations = o.max_iterations;
     // Coarse levels only need to bring the pose within the next level's reach.
-    const double coarseness = double(pyramid->factor(l)) / pyramid->factor(pyramid->size() - 1);
+    const double coarseness =
+        double(pyramid->factor(level)) / pyramid->factor(pyramid->size() - 1);
     settings.translation_epsilon = o.translation_epsilon * coarseness;
     settings.rotation_epsilon = o.rotation_epsilon * coarseness;
     settings.max_translation_step = res;

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <cstddef>
 #include <limits>
 #include <memory>
 #include <string>
@@ -122,10 +123,16 @@ class NdtRegistration {
   /// Gaussian) or a scan without a usable point; nothing is cached then.
   RegistrationResult align(const NdtMap& map, const std::vector<Eigen::Vector3d>& scan,
                            const Eigen::Isometry3d& guess);
-  /// The same with only the `max_levels` coarsest levels: a cheap first look (global
-  /// localization sorts its hypotheses with it); the verdict is the last level's.
+  /// The same on levels [begin, end) of the pyramid only (coarse to fine; end is clamped to
+  /// its size): the coarse ones for a cheap first look (global localization sorts its
+  /// hypotheses so), the fine ones where the guess is already close (tracking). The verdict is
+  /// the last level's.
+  struct Levels {
+    size_t begin = 0;
+    size_t end = SIZE_MAX;
+  };
   RegistrationResult align(const NdtMap& map, const std::vector<Eigen::Vector3d>& scan,
-                           const Eigen::Isometry3d& guess, size_t max_levels);
+                           const Eigen::Isometry3d& guess, Levels levels);
 
   /// The pyramid used by the last call (null before the first).
   std::shared_ptr<const MapPyramid> pyramid() const { return pyramid_; }
