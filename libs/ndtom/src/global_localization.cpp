@@ -6,25 +6,15 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "elapsed.h"
 #include "global/floor_columns.h"
+#include "option_error.h"
 #include "parallel.h"
 #include "registration/ndt_objective.h"
 #include "registration/scan_levels.h"
 
 namespace ndtom {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-[[noreturn]] void fail(const char* option, double value, const char* why) {
-  std::ostringstream msg;
-  msg << option << " = " << value << ": " << why;
-  throw std::invalid_argument(msg.str());
-}
 
 /// The rotation turning `up` (unit, sensor frame) onto the map's +z by the smallest angle.
 Eigen::Matrix3d levelling(const Eigen::Vector3d& up) {
@@ -59,18 +49,19 @@ bool farApart(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 
 void validate(const GlobalSearchOptions& o) {
   if (!(o.position_step >= 0.1 && o.position_step <= 100))
-    fail("position_step", o.position_step, "must be in [0.1, 100] m");
+    failOption("position_step", o.position_step, "must be in [0.1, 100] m");
   if (!(o.yaw_step_deg >= 1 && o.yaw_step_deg <= 180))
-    fail("yaw_step_deg", o.yaw_step_deg, "must be in [1, 180]");
-  if (o.scoring_points < 10) fail("scoring_points", double(o.scoring_points), "must be >= 10");
-  if (o.refined < 1) fail("refined", double(o.refined), "must be >= 1");
-  if (o.fully_refined < 1) fail("fully_refined", double(o.fully_refined), "must be >= 1");
+    failOption("yaw_step_deg", o.yaw_step_deg, "must be in [1, 180]");
+  if (o.scoring_points < 10)
+    failOption("scoring_points", double(o.scoring_points), "must be >= 10");
+  if (o.refined < 1) failOption("refined", double(o.refined), "must be >= 1");
+  if (o.fully_refined < 1) failOption("fully_refined", double(o.fully_refined), "must be >= 1");
   if (!(o.max_sensor_tilt_deg > 0 && o.max_sensor_tilt_deg <= 90))
-    fail("max_sensor_tilt_deg", o.max_sensor_tilt_deg, "must be in (0, 90]");
+    failOption("max_sensor_tilt_deg", o.max_sensor_tilt_deg, "must be in (0, 90]");
   if (!(o.max_floor_slope_deg > 0 && o.max_floor_slope_deg < 90))
-    fail("max_floor_slope_deg", o.max_floor_slope_deg, "must be in (0, 90)");
+    failOption("max_floor_slope_deg", o.max_floor_slope_deg, "must be in (0, 90)");
   if (!(o.ambiguity_ratio > 0 && o.ambiguity_ratio <= 1))
-    fail("ambiguity_ratio", o.ambiguity_ratio, "must be in (0, 1]");
+    failOption("ambiguity_ratio", o.ambiguity_ratio, "must be in (0, 1]");
 }
 
 struct GlobalLocalizer::FloorCache {
@@ -86,11 +77,11 @@ GlobalLocalizer::GlobalLocalizer(const GlobalSearchOptions& search,
   validate(options_);
   const auto& f = registration.level_factors;
   if (std::find(f.begin(), f.end(), options_.scoring_level_factor) == f.end())
-    fail("scoring_level_factor", options_.scoring_level_factor,
-         "must be one of the registration's level_factors");
+    failOption("scoring_level_factor", options_.scoring_level_factor,
+               "must be one of the registration's level_factors");
   if (std::find(f.begin(), f.end(), options_.coarse_refinement_factor) == f.end())
-    fail("coarse_refinement_factor", options_.coarse_refinement_factor,
-         "must be one of the registration's level_factors");
+    failOption("coarse_refinement_factor", options_.coarse_refinement_factor,
+               "must be one of the registration's level_factors");
 }
 GlobalLocalizer::~GlobalLocalizer() = default;
 GlobalLocalizer::GlobalLocalizer(GlobalLocalizer&&) noexcept = default;
@@ -101,8 +92,8 @@ GlobalLocalizationResult GlobalLocalizer::localize(const NdtMap& map,
   const auto start = Clock::now();
   GlobalLocalizationResult result;
   // Gravity and height from the scan's floor; where the sensor can be from the map's.
-  result.gravity = findFloor(usablePoints(scan, registration_.options()),
-                             options_.max_sensor_tilt_deg);
+  result.gravity =
+      findFloor(usablePoints(scan, registration_.options()), options_.max_sensor_tilt_deg);
   if (!result.gravity.found) {
     result.failure = "no floor found in the scan (needed for roll, pitch and height)";
     result.seconds = secondsSince(start);
@@ -129,8 +120,8 @@ GlobalLocalizationResult GlobalLocalizer::localize(const NdtMap& map,
       Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
       pose.linear() =
           Eigen::AngleAxisd(2 * M_PI * k / yaws, Eigen::Vector3d::UnitZ()) * level_rotation;
-      pose.translation() = Eigen::Vector3d(column.centre.x(), column.centre.y(),
-                                           column.z + result.gravity.height);
+      pose.translation() =
+          Eigen::Vector3d(column.centre.x(), column.centre.y(), column.z + result.gravity.height);
       poses.push_back(pose);
     }
   searchAmong(map, scan, poses, result);
@@ -153,9 +144,9 @@ GlobalLocalizationResult GlobalLocalizer::searchAround(const NdtMap& map,
       if (std::hypot(i, j) * step > radius + 1e-9) continue;
       for (int k = -yaws; k <= yaws; ++k) {
         Eigen::Isometry3d pose = centre;
-        pose.linear() = Eigen::AngleAxisd(k * options_.yaw_step_deg * M_PI / 180,
-                                          Eigen::Vector3d::UnitZ()) *
-                        centre.linear();
+        pose.linear() =
+            Eigen::AngleAxisd(k * options_.yaw_step_deg * M_PI / 180, Eigen::Vector3d::UnitZ()) *
+            centre.linear();
         pose.translation() += Eigen::Vector3d(i * step, j * step, 0);
         poses.push_back(pose);
       }
@@ -178,8 +169,8 @@ void GlobalLocalizer::searchAmong(const NdtMap& map, const std::vector<Eigen::Ve
   scoring.method = RegistrationMethod::P2D;
   scoring.max_points = options_.scoring_points;
   const std::vector<Eigen::Vector3d> usable = usablePoints(scan, ro);
-  const std::vector<ScanLevel> scan_levels = buildScanLevels(
-      usable, {pyramid->resolution(level)}, scoring, map.options().regularization);
+  const std::vector<ScanLevel> scan_levels =
+      buildScanLevels(usable, {pyramid->resolution(level)}, scoring, map.options().regularization);
   const NdtObjective objective(pyramid->level(level), scan_levels[0], RegistrationMethod::P2D,
                                scoreConstants(pyramid->resolution(level), ro.outlier_ratio),
                                floor_->pool, 1);
@@ -204,7 +195,8 @@ void GlobalLocalizer::searchAmong(const NdtMap& map, const std::vector<Eigen::Ve
   const auto& factors = ro.level_factors;
   const size_t coarse_levels =
       size_t(std::find(factors.begin(), factors.end(), options_.coarse_refinement_factor) -
-             factors.begin()) + 1;
+             factors.begin()) +
+      1;
   std::vector<RegistrationResult> coarse;
   for (size_t i = 0; i < hypotheses.size() && result.refined < options_.refined; ++i) {
     ++result.refined;
@@ -219,10 +211,9 @@ void GlobalLocalizer::searchAmong(const NdtMap& map, const std::vector<Eigen::Ve
       *same = std::move(r);
   }
   result.distinct = coarse.size();
-  std::stable_sort(coarse.begin(), coarse.end(),
-                   [](const RegistrationResult& a, const RegistrationResult& b) {
-                     return a.score > b.score;
-                   });
+  std::stable_sort(
+      coarse.begin(), coarse.end(),
+      [](const RegistrationResult& a, const RegistrationResult& b) { return a.score > b.score; });
   std::vector<RegistrationResult> converged;
   for (size_t i = 0; i < coarse.size() && i < options_.fully_refined; ++i) {
     ++result.fully_refined;
@@ -236,10 +227,9 @@ void GlobalLocalizer::searchAmong(const NdtMap& map, const std::vector<Eigen::Ve
                      " best hypotheses converged: the scan does not match the map";
     return;
   }
-  const auto best = std::max_element(converged.begin(), converged.end(),
-                                     [](const RegistrationResult& a, const RegistrationResult& b) {
-                                       return a.score < b.score;
-                                     });
+  const auto best = std::max_element(
+      converged.begin(), converged.end(),
+      [](const RegistrationResult& a, const RegistrationResult& b) { return a.score < b.score; });
   result.best = *best;
   for (const RegistrationResult& other : converged)
     if (farApart(other.pose, best->pose) && other.score >= options_.ambiguity_ratio * best->score) {

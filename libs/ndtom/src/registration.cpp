@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
+#include "elapsed.h"
+#include "option_error.h"
 #include "parallel.h"
 #include "registration/ndt_objective.h"
 #include "registration/newton_search.h"
@@ -16,18 +18,6 @@
 
 namespace ndtom {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-[[noreturn]] void fail(const char* option, double value, const char* why) {
-  std::ostringstream msg;
-  msg << option << " = " << value << ": " << why;
-  throw std::invalid_argument(msg.str());
-}
 
 /// The guess as a rigid transform: finite, its rotation orthonormal with determinant +1
 /// (re-orthonormalised within 1e-6, as float round trips leave it).
@@ -129,34 +119,34 @@ RegistrationMethod registrationMethodFromString(const std::string& text) {
 
 void validate(const RegistrationOptions& o) {
   if (o.method != RegistrationMethod::P2D && o.method != RegistrationMethod::D2D)
-    fail("method", double(int(o.method)), "unknown method");
+    failOption("method", double(int(o.method)), "unknown method");
   if (o.level_factors.empty()) throw std::invalid_argument("level_factors: none given");
   for (size_t i = 0; i < o.level_factors.size(); ++i) {
     if (o.level_factors[i] < 1 || o.level_factors[i] > 1024)
-      fail("level_factors", o.level_factors[i], "each must be in [1, 1024]");
+      failOption("level_factors", o.level_factors[i], "each must be in [1, 1024]");
     if (i > 0 && o.level_factors[i] >= o.level_factors[i - 1])
-      fail("level_factors", o.level_factors[i], "must decrease: coarse to fine");
+      failOption("level_factors", o.level_factors[i], "must decrease: coarse to fine");
   }
   if (!(o.outlier_ratio > 0 && o.outlier_ratio < 1))
-    fail("outlier_ratio", o.outlier_ratio, "must be in (0, 1)");
+    failOption("outlier_ratio", o.outlier_ratio, "must be in (0, 1)");
   if (!(o.max_iterations >= 1 && o.max_iterations <= 1000))
-    fail("max_iterations", o.max_iterations, "must be in [1, 1000]");
+    failOption("max_iterations", o.max_iterations, "must be in [1, 1000]");
   if (!(o.translation_epsilon > 0 && std::isfinite(o.translation_epsilon)))
-    fail("translation_epsilon", o.translation_epsilon, "must be finite and > 0");
+    failOption("translation_epsilon", o.translation_epsilon, "must be finite and > 0");
   if (!(o.rotation_epsilon > 0 && std::isfinite(o.rotation_epsilon)))
-    fail("rotation_epsilon", o.rotation_epsilon, "must be finite and > 0");
+    failOption("rotation_epsilon", o.rotation_epsilon, "must be finite and > 0");
   if (!(o.min_range >= 0 && std::isfinite(o.min_range)))
-    fail("min_range", o.min_range, "must be finite and >= 0");
-  if (!(o.max_range > o.min_range)) fail("max_range", o.max_range, "must be > min_range");
+    failOption("min_range", o.min_range, "must be finite and >= 0");
+  if (!(o.max_range > o.min_range)) failOption("max_range", o.max_range, "must be > min_range");
   if (!(o.voxel_ratio >= 0.05 && o.voxel_ratio <= 4))
-    fail("voxel_ratio", o.voxel_ratio, "must be in [0.05, 4]");
-  if (o.max_points < 10) fail("max_points", double(o.max_points), "must be >= 10");
+    failOption("voxel_ratio", o.voxel_ratio, "must be in [0.05, 4]");
+  if (o.max_points < 10) failOption("max_points", double(o.max_points), "must be >= 10");
   if (!(o.min_matched_fraction >= 0 && o.min_matched_fraction <= 1))
-    fail("min_matched_fraction", o.min_matched_fraction, "must be in [0, 1]");
+    failOption("min_matched_fraction", o.min_matched_fraction, "must be in [0, 1]");
   if (!(o.max_free_fraction >= 0 && o.max_free_fraction <= 1))
-    fail("max_free_fraction", o.max_free_fraction, "must be in [0, 1]");
+    failOption("max_free_fraction", o.max_free_fraction, "must be in [0, 1]");
   if (!(o.threads >= 1 && o.threads <= InsertOptions::kMaxThreads))
-    fail("threads", o.threads, "must be in [1, 256]");
+    failOption("threads", o.threads, "must be in [1, 256]");
 }
 
 struct NdtRegistration::State {
@@ -240,8 +230,7 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
     NewtonSettings settings;
     settings.max_iterations = o.max_iterations;
     // Coarse levels only need to bring the pose within the next level's reach.
-    const double coarseness =
-        double(pyramid->factor(level)) / pyramid->factor(pyramid->size() - 1);
+    const double coarseness = double(pyramid->factor(level)) / pyramid->factor(pyramid->size() - 1);
     settings.translation_epsilon = o.translation_epsilon * coarseness;
     settings.rotation_epsilon = o.rotation_epsilon * coarseness;
     settings.max_translation_step = res;
@@ -277,17 +266,17 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   if (constrained) {
     // Residuals as the map's Gaussians predict give χ² ≈ 3 per term: a scale near 1.
     const double scale = info.chi2 / double(3 * info.terms - free_count);
-    result.covariance = restrictTo(scale * eig.eigenvectors() *
-                                       eig.eigenvalues().cwiseInverse().asDiagonal() *
-                                       eig.eigenvectors().transpose(),
-                                   free, 0.0);
+    result.covariance =
+        restrictTo(scale * eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() *
+                       eig.eigenvectors().transpose(),
+                   free, 0.0);
   } else {
     result.covariance = restrictTo(Matrix6d::Identity() * 1e6, free, 0.0);
   }
 
   if (!last.converged) {
-    result.failure = "the finest level did not converge in " + std::to_string(o.max_iterations) +
-                     " iterations";
+    result.failure =
+        "the finest level did not converge in " + std::to_string(o.max_iterations) + " iterations";
   } else if (last.matched_fraction < o.min_matched_fraction) {
     std::ostringstream why;
     why << "only " << last.matched_fraction << " of the scan matched the map (min_matched_fraction "
