@@ -229,10 +229,12 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
     finest = &objectives.back();
     NewtonSettings settings;
     settings.max_iterations = o.max_iterations;
-    // Coarse levels only need to bring the pose within the next level's reach.
-    const double coarseness = double(pyramid->factor(level)) / pyramid->factor(pyramid->size() - 1);
-    settings.translation_epsilon = o.translation_epsilon * coarseness;
-    settings.rotation_epsilon = o.rotation_epsilon * coarseness;
+    // Coarse levels only need to bring the pose within the next level's reach: their
+    // epsilons grow with the square of their coarseness (256x at 16x: 2.6 cm, 1.5 deg).
+    const double coarseness =
+        double(pyramid->factor(level)) / pyramid->factor(pyramid->size() - 1);
+    settings.translation_epsilon = o.translation_epsilon * coarseness * coarseness;
+    settings.rotation_epsilon = o.rotation_epsilon * coarseness * coarseness;
     settings.max_translation_step = res;
     settings.free = freeParameters(o.planar);
     LevelReport report;
