@@ -6,6 +6,7 @@
 #include <ctime>
 
 #include "ndtom_apps/process_memory.h"
+#include "ndtom_apps/statistics.h"
 
 namespace ndtom::bench {
 
@@ -54,7 +55,7 @@ RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats,
     }
     const size_t peak = apps::peakRssBytes();
     r.peak_rss_delta = std::max(r.peak_rss_delta, peak > rss_before ? peak - rss_before : 0);
-    r.repeat_median_seconds.push_back(quantile(times, 0.5));
+    r.repeat_median_seconds.push_back(apps::quantile(times, 0.5));
     r.scan_seconds.insert(r.scan_seconds.end(), times.begin(), times.end());
   }
   r.map = system.mapSize();

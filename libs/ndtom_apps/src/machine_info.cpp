@@ -1,9 +1,9 @@
-#include "machine_info.h"
+#include "ndtom_apps/machine_info.h"
 
 #include <fstream>
 #include <thread>
 
-namespace ndtom::bench {
+namespace ndtom::apps {
 
 std::string cpuDescription() {
   std::ifstream in("/proc/cpuinfo");
@@ -17,9 +17,9 @@ std::string cpuDescription() {
 }
 
 std::string buildDescription() {
-  // Set by apps/ndtom-bench/CMakeLists.txt from the configured toolchain.
-  return std::string(NDTOM_BENCH_COMPILER) + ", " + NDTOM_BENCH_BUILD_TYPE + ", flags '" +
-         NDTOM_BENCH_FLAGS + "'";
+  // Set by libs/ndtom_apps/CMakeLists.txt from the configured toolchain.
+  return std::string(NDTOM_APPS_COMPILER) + ", " + NDTOM_APPS_BUILD_TYPE + ", flags '" +
+         NDTOM_APPS_FLAGS + "'";
 }
 
-}  // namespace ndtom::bench
+}  // namespace ndtom::apps
