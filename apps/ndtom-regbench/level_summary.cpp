@@ -1,6 +1,9 @@
 #include "level_summary.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <numeric>
 
 #include "ndtom_apps/statistics.h"
 
@@ -68,8 +71,12 @@ std::vector<LevelSummary> summarize(const SystemRun& run, const std::vector<Erro
     s.median_ms = medianOrNan(ms);
     s.p95_ms = ms.empty() ? NAN : apps::quantile(ms, 0.95);
     s.median_cpu_ms = medianOrNan(cpu_ms);
+    s.mean_ms = ms.empty() ? NAN : std::accumulate(ms.begin(), ms.end(), 0.0) / double(ms.size());
     if (has_verdicts) s.verdicts = countVerdicts(trials);
-    s.pyramid = pyramidTimes(trials);
+    std::vector<const Trial*> cached;  // the pyramid built: as the times, the first call left out
+    std::copy_if(trials.begin(), trials.end(), std::back_inserter(cached),
+                 [](const Trial* t) { return !t->first_call; });
+    s.pyramid = pyramidTimes(cached);
     out.push_back(std::move(s));
   }
   return out;

@@ -9,7 +9,8 @@
 
 namespace ndtom::regbench {
 
-/// Mean of one pyramid level over a level's registrations (NdtRegistration only).
+/// Mean of one pyramid level over a level's registrations but the system's first call
+/// (NdtRegistration only).
 struct PyramidLevelTime {
   double resolution = 0;  ///< m
   double mean_seconds = 0;
@@ -33,6 +34,7 @@ struct LevelSummary {
   double median_error_m = 0, median_error_deg = 0;
   /// Per registration, the system's first call left out; NaN when no call is left.
   double median_ms = 0, p95_ms = 0, median_cpu_ms = 0;
+  double mean_ms = 0;  ///< to set beside the mean time of the pyramid levels
   std::optional<VerdictCounts> verdicts;
   std::vector<PyramidLevelTime> pyramid;  ///< coarse to fine; empty for the peers
 

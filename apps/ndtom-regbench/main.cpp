@@ -109,8 +109,11 @@ std::string joinedNumbers(const std::vector<int>& numbers) {
 
 void printSummary(const RegbenchOptions& o, const LidarSequence& sequence,
                   const MapScans& map_scans, const SharedNdtMap& ndt,
-                  const std::vector<SystemRun>& runs, const std::vector<LevelSummary>& summaries) {
+                  const std::vector<SystemRun>& runs, const std::vector<LevelSummary>& summaries,
+                  const std::string& load_at_start) {
   std::cout << "## ndtom-regbench results\n\nCPU: " << apps::cpuDescription()
+            << "\nLoad averages (1, 5, 15 min): " << load_at_start << " at the start, "
+            << apps::loadAverages() << " at the end"
             << "\nBuild: " << apps::buildDescription() << "\nPeers: " << mrptVersion() << ", "
             << (pclAvailable() ? "PCL " + pclVersion()
                                : "no PCL in this build (pcl-ndt and "
@@ -127,8 +130,9 @@ void printSummary(const RegbenchOptions& o, const LidarSequence& sequence,
                 o.resolution, ndt.map->numGaussians(), ndt.seconds, o.max_range);
   std::printf(
       "Starts: %d per held-out scan and error level, seed %u. Success: final pose within %g m "
-      "and %g° of the reference. Times: wall clock per registration, each system's first call "
-      "left out (shown apart).\n\n",
+      "and %g° of the reference. Times per registration: wall clock and process CPU time (on "
+      "one thread, CPU below wall means other processes took the core), each system's first "
+      "call left out (shown apart).\n\n",
       o.trials, o.seed, kSuccessMeters, kSuccessDegrees);
   std::cout << "### Systems\n\n"
             << systemsTable(runs) << "\n### Successes\n\n"
@@ -148,6 +152,7 @@ void printSummary(const RegbenchOptions& o, const LidarSequence& sequence,
 
 int run(const RegbenchOptions& o) {
   const auto start = std::chrono::steady_clock::now();
+  const std::string load_at_start = apps::loadAverages();
   const std::vector<SystemKind> systems = chosenSystems(o);
   checkOutputFolders(o);
   const LidarSequence sequence = loadLidarSequence(o.dataset);
@@ -189,7 +194,7 @@ int run(const RegbenchOptions& o) {
   std::vector<LevelSummary> summaries;
   for (const SystemRun& r : runs)
     for (LevelSummary& s : summarize(r, o.errors)) summaries.push_back(std::move(s));
-  printSummary(o, sequence, map_scans, ndt, runs, summaries);
+  printSummary(o, sequence, map_scans, ndt, runs, summaries, load_at_start);
   if (!o.csv_path.empty()) writeLevelsCsv(o.csv_path, sequence.name, runs, summaries);
   if (!o.trials_csv_path.empty()) writeTrialsCsv(o.trials_csv_path, sequence.name, runs, o.errors);
   if (!o.plot_path.empty()) writeSuccessPlot(o.plot_path, sequence.name, summaries, o.errors);

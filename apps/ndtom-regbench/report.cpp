@@ -103,7 +103,7 @@ std::string pyramidTable(const std::vector<LevelSummary>& summaries) {
         header += number(" %g m |", p.resolution);
         rule += "---:|";
       }
-      out = header + " all levels |\n" + rule + "---:|\n";
+      out = header + " all levels | whole call |\n" + rule + "---:|---:|\n";
     }
     out += "| " + s.label + " | " + s.level.label() + " |";
     double total = 0;
@@ -112,7 +112,7 @@ std::string pyramidTable(const std::vector<LevelSummary>& summaries) {
              number("%.1f", p.mean_iterations) + " |";
       total += p.mean_seconds;
     }
-    out += " " + number("%.1f", total * 1e3) + " ms |\n";
+    out += " " + number("%.1f", total * 1e3) + " ms | " + number("%.1f", s.mean_ms) + " ms |\n";
   }
   return out;
 }

@@ -21,7 +21,9 @@ std::string levelsTable(const std::vector<LevelSummary>& summaries);
 /// Successes out of trials, one row per system and one column per error level.
 std::string successMatrix(const std::vector<LevelSummary>& summaries,
                           const std::vector<ErrorLevel>& levels);
-/// NdtRegistration's mean time and Newton steps per pyramid level, per error level.
+/// NdtRegistration's mean time and Newton steps per pyramid level, per error level, their sum
+/// and the mean time of the whole call (first call left out): the difference is spent
+/// outside the levels.
 std::string pyramidTable(const std::vector<LevelSummary>& summaries);
 /// Every registration whose verdict disagrees with the reference (converged but wrong, or
 /// right but reported failed), for the systems that give a verdict; empty if none does.

@@ -16,6 +16,13 @@ std::string cpuDescription() {
   return model + " (" + std::to_string(std::thread::hardware_concurrency()) + " CPUs)";
 }
 
+std::string loadAverages() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  if (!(in >> one >> five >> fifteen)) return "unknown";
+  return one + " " + five + " " + fifteen;
+}
+
 std::string buildDescription() {
   // Set by libs/ndtom_apps/CMakeLists.txt from the configured toolchain.
   return std::string(NDTOM_APPS_COMPILER) + ", " + NDTOM_APPS_BUILD_TYPE + ", flags '" +
