@@ -67,7 +67,7 @@ void NdtomSystem::setScans(const std::vector<const std::vector<Eigen::Vector3d>*
 
 Attempt NdtomSystem::align(size_t scan, const Eigen::Isometry3d& guess) {
   const RegistrationResult r = registration_.align(map_, *scans_.at(scan), guess);
-  return {r.pose, r.converged, r.failure, r.levels};
+  return {r.pose, r.converged, r.failure, r.score, r.matched_fraction, r.levels};
 }
 
 }  // namespace ndtom::regbench

@@ -17,7 +17,10 @@ struct Attempt {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor -> world
   /// The system's own verdict, where it gives a meaningful one (NdtRegistration).
   std::optional<bool> converged;
-  std::string failure;              ///< why not converged, if the system says
+  std::string failure;  ///< why not converged, if the system says
+  /// NdtRegistration's finest-level score per scan item and matched fraction, on which its
+  /// verdict rests.
+  std::optional<double> score, matched_fraction;
   std::vector<LevelReport> levels;  ///< NdtRegistration's pyramid levels, coarse to fine
 };
 

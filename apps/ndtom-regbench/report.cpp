@@ -130,12 +130,13 @@ std::string verdictTable(const std::vector<SystemRun>& runs,
              levels[t.start.level].label() + " | " + std::to_string(t.start.trial) + " | " +
              number("%.3f", t.error.meters) + " / " + number("%.2f", t.error.degrees) + " | " +
              (*t.attempt.converged ? "**converged, wrong**" : "failed, right") + " | " +
+             number("%.3f", t.attempt.matched_fraction.value_or(NAN)) + " | " +
              (t.attempt.failure.empty() ? "-" : t.attempt.failure) + " |\n";
     }
   if (!any_verdict) return "";
   if (out.empty()) return "Every verdict agrees with the reference.\n";
-  return "| system | scan | initial error | trial | final error (m / °) | verdict | failure "
-         "reported |\n|---|---:|---|---:|---:|---|---|\n" +
+  return "| system | scan | initial error | trial | final error (m / °) | verdict | matched "
+         "fraction | failure reported |\n|---|---:|---|---:|---:|---|---:|---|\n" +
          out;
 }
 

@@ -27,6 +27,10 @@ CsvCell optionalRate(const std::optional<VerdictCounts>& v, int VerdictCounts::*
   return v && trials > 0 ? CsvCell(double((*v).*count) / trials) : CsvCell("");
 }
 
+CsvCell optionalNumber(const std::optional<double>& v) {
+  return v ? CsvCell(*v) : CsvCell("");
+}
+
 const SystemRun& runOf(const std::vector<SystemRun>& runs, const std::string& label) {
   return *std::find_if(runs.begin(), runs.end(),
                        [&](const SystemRun& r) { return r.label == label; });
@@ -92,12 +96,13 @@ void writeLevelsCsv(const std::string& path, const std::string& dataset,
 
 void writeTrialsCsv(const std::string& path, const std::string& dataset,
                     const std::vector<SystemRun>& runs, const std::vector<ErrorLevel>& levels) {
-  apps::CsvTable table({"dataset",      "system",   "threads", "scan",      "translation_m",
-                        "rotation_deg", "trial",    "error_m", "error_deg", "success",
-                        "converged",    "failure",  "ms",      "cpu_ms",    "first_call",
-                        "start_x",      "start_y",  "start_z", "start_qw",  "start_qx",
-                        "start_qy",     "start_qz", "x",       "y",         "z",
-                        "qw",           "qx",       "qy",      "qz"});
+  // clang-format off
+  apps::CsvTable table({"dataset", "system", "threads", "scan", "translation_m", "rotation_deg",
+                        "trial", "error_m", "error_deg", "success", "converged", "failure",
+                        "score", "matched_fraction", "ms", "cpu_ms", "first_call",
+                        "start_x", "start_y", "start_z", "start_qw", "start_qx", "start_qy",
+                        "start_qz", "x", "y", "z", "qw", "qx", "qy", "qz"});
+  // clang-format on
   for (const SystemRun& run : runs)
     for (const Trial& t : run.trials) {
       const ErrorLevel& level = levels[t.start.level];
@@ -118,6 +123,8 @@ void writeTrialsCsv(const std::string& path, const std::string& dataset,
                     int(t.error.success()),
                     t.attempt.converged ? CsvCell(int(*t.attempt.converged)) : CsvCell(""),
                     failure,
+                    optionalNumber(t.attempt.score),
+                    optionalNumber(t.attempt.matched_fraction),
                     t.seconds * 1e3,
                     t.cpu_seconds * 1e3,
                     int(t.first_call),
