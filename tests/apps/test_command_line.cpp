@@ -1,5 +1,5 @@
-// The programs' command-line walker and list options: flags alone, options with one value,
-// a missing value and unknown names refused with a message naming the option.
+// The programs' command-line walker and lists of named values: flags alone, options with one
+// value, a missing value and unknown names refused with a message naming the option.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -7,8 +7,10 @@
 #include <vector>
 
 #include "ndtom_apps/command_line.h"
+#include "support/usage_message.h"
 
 using namespace ndtom::apps;
+using ndtom::testing::usageMessage;
 
 namespace {
 
@@ -26,15 +28,6 @@ std::vector<std::string> walk(std::vector<const char*> args) {
         seen.push_back(name + "=" + value);
       });
   return seen;
-}
-
-std::string usageMessage(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const UsageError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 }  // namespace
@@ -69,13 +62,4 @@ TEST(ParseNamedList, RefusesUnknownRepeatedAndEmpty) {
   EXPECT_EQ(usageMessage([] { parseNamedList("--fruit", "pear,pear", kFruits); }),
             "--fruit: pear is listed twice");
   EXPECT_EQ(usageMessage([] { parseNamedList("--fruit", ",", kFruits); }), "--fruit: empty list");
-}
-
-TEST(ParseIntegerList, IntegersInRangeOnceEach) {
-  EXPECT_EQ(parseIntegerList("--t", "1,2,8", 1, 8), (std::vector<int64_t>{1, 2, 8}));
-  EXPECT_EQ(usageMessage([] { parseIntegerList("--t", "1,9", 1, 8); }),
-            "--t = 9: must be in [1, 8]");
-  EXPECT_EQ(usageMessage([] { parseIntegerList("--t", "2,2", 1, 8); }), "--t: 2 is listed twice");
-  EXPECT_EQ(usageMessage([] { parseIntegerList("--t", "", 1, 8); }), "--t: empty list");
-  EXPECT_EQ(usageMessage([] { parseIntegerList("--t", "1,x", 1, 8); }), "--t: not an integer: 'x'");
 }
