@@ -2,6 +2,7 @@
 // errors of growing size, with NDT-OM's registration (P2D, D2D) and its peers (MRPT's ICP,
 // PCL's NDT and GICP), all from the same starts in one process, and reports success, accuracy,
 // time and NDT-OM's verdicts per system, threads and error level. See --help.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -84,6 +85,18 @@ struct SharedNdtMap {
   double seconds = 0;
 };
 
+/// Built if an NDT-OM system is to run, else empty.
+SharedNdtMap sharedNdtMap(const std::vector<SystemKind>& systems, const LidarSequence& sequence,
+                          const MapScans& map_scans, const RegbenchOptions& o) {
+  SharedNdtMap ndt;
+  if (std::none_of(systems.begin(), systems.end(), isNdtom)) return ndt;
+  const auto t0 = std::chrono::steady_clock::now();
+  ndt.map =
+      std::make_unique<NdtMap>(buildNdtMap(sequence, map_scans.scans, o.resolution, o.max_range));
+  ndt.seconds = secondsSince(t0);
+  return ndt;
+}
+
 std::unique_ptr<RegistrationSystem> makeSystem(const PlannedRun& p, const MapScans& map_scans,
                                                const SharedNdtMap& ndt) {
   switch (p.kind) {
@@ -162,23 +175,14 @@ int run(const RegbenchOptions& o) {
   std::vector<const std::vector<Eigen::Vector3d>*> held_out_scans;
   for (int scan : o.held_out) held_out_scans.push_back(&sequence.scans[size_t(scan)]);
 
-  SharedNdtMap ndt;
-  for (SystemKind kind : systems)
-    if (kind == SystemKind::NdtomP2D || kind == SystemKind::NdtomD2D) {
-      const auto t0 = std::chrono::steady_clock::now();
-      ndt.map = std::make_unique<NdtMap>(
-          buildNdtMap(sequence, map_scans.scans, o.resolution, o.max_range));
-      ndt.seconds = secondsSince(t0);
-      break;
-    }
-
+  const SharedNdtMap ndt = sharedNdtMap(systems, sequence, map_scans, o);
   const std::vector<PlannedRun> plan = planRuns(systems, o.threads);
   apps::Progress progress(!o.quiet);
   std::vector<SystemRun> runs;
   for (const PlannedRun& p : plan) {
     const auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<RegistrationSystem> system = makeSystem(p, map_scans, ndt);
-    const double setup = usesThreads(p.kind) ? ndt.seconds : secondsSince(t0);
+    const double setup = isNdtom(p.kind) ? ndt.seconds : secondsSince(t0);
     system->setScans(held_out_scans);
     char title[200];
     std::snprintf(title, sizeof title, "run %zu/%zu %s", runs.size() + 1, plan.size(),

@@ -78,8 +78,12 @@ const char* systemName(SystemKind kind) {
   return apps::nameOf(kind, kSystems);
 }
 
-bool usesThreads(SystemKind kind) {
+bool isNdtom(SystemKind kind) {
   return kind == SystemKind::NdtomP2D || kind == SystemKind::NdtomD2D;
+}
+
+bool usesThreads(SystemKind kind) {
+  return isNdtom(kind);
 }
 
 RegbenchOptions parseArguments(int argc, const char* const argv[]) {

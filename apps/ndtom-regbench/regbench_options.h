@@ -20,6 +20,8 @@ enum class SystemKind {
 };
 
 const char* systemName(SystemKind kind);
+/// ndtom-p2d or ndtom-d2d.
+bool isNdtom(SystemKind kind);
 /// Whether the system has a thread option (only NdtRegistration: PCL 1.13's NDT and GICP and
 /// MRPT's ICP run on one thread).
 bool usesThreads(SystemKind kind);

@@ -95,8 +95,7 @@ std::vector<std::string> checkTargets(const std::vector<SystemRun>& runs,
                                       const std::vector<LevelSummary>& summaries) {
   std::vector<std::string> out;
   for (const SystemRun& run : runs) {
-    if (run.kind != SystemKind::NdtomP2D && run.kind != SystemKind::NdtomD2D) continue;
-    if (run.threads != 1) continue;
+    if (!isNdtom(run.kind) || run.threads != 1) continue;
     std::vector<const LevelSummary*> levels;
     for (const LevelSummary& s : summaries)
       if (s.label == run.label) levels.push_back(&s);
