@@ -1,9 +1,11 @@
-// NDT-MCL's likelihood: the scan NDT against batch statistics of its cells, the map table
+// NDT-MCL's likelihood: the scan NDT against batch statistics of its cells (and the kept
+// cells against what normal-space sampling must keep), the map table
 // against the map's own cell queries, the score against a brute-force sum with full matrix
 // inverses, its peak at the true pose, and the edge cases (empty scan, no overlap, a pose
 // that is not finite, a floor so small that a product of terms would underflow).
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <cmath>
@@ -72,7 +74,7 @@ double bruteForce(const NdtMap& map, const ScanNdt& scan, const Isometry3d& t, d
 
 }  // namespace
 
-TEST(NdtMcl, ScanGaussiansAreTheBatchNdtOfTheirCellsMostPointsFirst) {
+TEST(NdtMcl, ScanGaussiansAreTheBatchNdtOfTheirCellsSampledByNormal) {
   const std::vector<Vector3d> points = roomScan(pose(0.3, -0.2, 1.5, 0.3, 0.05, -0.02));
   ScanNdtOptions options;
   options.cell_size = 0.5;
@@ -82,22 +84,29 @@ TEST(NdtMcl, ScanGaussiansAreTheBatchNdtOfTheirCellsMostPointsFirst) {
   EXPECT_EQ(scan.cell_size, 0.5);
   ASSERT_EQ(scan.gaussians.size(), 40u);
 
-  // Oracle: the batch NDT (a hash map of two-pass statistics per cell).
+  // Oracle: the batch NDT (a hash map of two-pass statistics per cell), each cell's facing
+  // axis from its own eigen-decomposition.
   const ndtom::GridGeometry geometry(0.5);
   const ndtom::CellStatsMap batch = ndtom::batchNdt(points, geometry);
-  std::vector<uint32_t> counts;
-  for (const auto& [cell, stats] : batch)
-    if (stats.hasGaussian()) counts.push_back(stats.n);
-  EXPECT_EQ(scan.cells_with_gaussian, counts.size());
-  std::sort(counts.rbegin(), counts.rend());
-  const uint32_t fortieth = counts[39];
+  std::map<ndtom::CellIndex, int> axis_of;
+  for (const auto& [cell, stats] : batch) {
+    if (!stats.hasGaussian()) continue;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(stats.covariance());
+    const Vector3d normal = eig.eigenvectors().col(0).cwiseAbs();
+    int axis = 0;
+    for (int a = 1; a < 3; ++a)
+      if (normal[a] > normal[axis]) axis = a;
+    axis_of[cell] = axis;
+  }
+  EXPECT_EQ(scan.cells_with_gaussian, axis_of.size());
 
+  std::map<ndtom::CellIndex, bool> kept;
   for (const auto& g : scan.gaussians) {
     const ndtom::CellIndex cell = geometry.cellOf(g.mean);
     const auto it = batch.find(cell);
     ASSERT_NE(it, batch.end());
+    kept[cell] = true;
     EXPECT_EQ(g.n, it->second.n);
-    EXPECT_GE(g.n, fortieth) << "only the cells with the most points are kept";
     const Vector3d mean = it->second.mean + geometry.cellCenter(cell);
     EXPECT_LT((g.mean - mean).norm(), 1e-9);
     const Eigen::Matrix3d expected =
@@ -108,6 +117,28 @@ TEST(NdtMcl, ScanGaussiansAreTheBatchNdtOfTheirCellsMostPointsFirst) {
     EXPECT_TRUE(geometry.cellOf(scan.gaussians[i - 1].mean) <
                 geometry.cellOf(scan.gaussians[i].mean))
         << "kept ones in cell order";
+
+  // Per facing axis: the kept cells are those with the most points, and the axes share the
+  // 40 evenly (within one) unless an axis has fewer cells, which are then all kept.
+  size_t taken[3] = {0, 0, 0}, available[3] = {0, 0, 0};
+  uint32_t fewest_kept[3] = {UINT32_MAX, UINT32_MAX, UINT32_MAX}, most_left[3] = {0, 0, 0};
+  for (const auto& [cell, axis] : axis_of) {
+    const uint32_t n = batch.at(cell).n;
+    ++available[axis];
+    if (kept.count(cell)) {
+      ++taken[axis];
+      fewest_kept[axis] = std::min(fewest_kept[axis], n);
+    } else {
+      most_left[axis] = std::max(most_left[axis], n);
+    }
+  }
+  EXPECT_EQ(taken[0] + taken[1] + taken[2], 40u);
+  const size_t most_taken = std::max({taken[0], taken[1], taken[2]});
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_GE(fewest_kept[a], most_left[a]) << "axis " << a;
+    EXPECT_TRUE(taken[a] == available[a] || taken[a] + 1 >= most_taken) << "axis " << a;
+  }
+  EXPECT_GT(std::min({taken[0], taken[1], taken[2]}), 5u) << "the room has all three";
 }
 
 TEST(NdtMcl, MapTableFindsWhatTheMapHolds) {

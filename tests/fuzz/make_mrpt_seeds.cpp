@@ -87,7 +87,8 @@ int main(int argc, char** argv) {
   recursive.likelihoodOptions.search_neighbours = false;
   recursive.likelihoodOptions.decimation = 3;
   recursive.likelihoodOptions.likelihood_method = CNDTOccupancyMap::TLikelihoodMethod::NdtMcl;
-  recursive.likelihoodOptions.ndt_mcl_cell_factor = 3;
+  recursive.likelihoodOptions.ndt_mcl_scan_factor = 2;
+  recursive.likelihoodOptions.ndt_mcl_map_factor = 2;
   recursive.likelihoodOptions.ndt_mcl_max_gaussians = 120;
   recursive.renderOptions.show_free_cells = true;
   recursive.renderOptions.colormap = mrpt::img::cmHOT;

@@ -49,7 +49,8 @@ min_range           = 0.5
 max_range           = 12.5
 scale               = 0.25
 likelihood_method   = NdtMcl
-ndt_mcl_cell_factor = 3
+ndt_mcl_scan_factor = 4
+ndt_mcl_map_factor = 2
 ndt_mcl_max_gaussians = 450
 )ini";
 
@@ -110,7 +111,8 @@ TEST(IniOptions, ShortNameCreatesTheMapWithTheTextsOptions) {
   EXPECT_EQ(lk.max_range, 12.5);
   EXPECT_EQ(lk.scale, 0.25);
   EXPECT_EQ(lk.likelihood_method, CNDTOccupancyMap::TLikelihoodMethod::NdtMcl);
-  EXPECT_EQ(lk.ndt_mcl_cell_factor, 3);
+  EXPECT_EQ(lk.ndt_mcl_scan_factor, 4);
+  EXPECT_EQ(lk.ndt_mcl_map_factor, 2);
   EXPECT_EQ(lk.ndt_mcl_max_gaussians, 450);
 
   EXPECT_FALSE(map->genericMapParams.enableSaveAs3DObject);
@@ -171,9 +173,10 @@ TEST(IniOptions, DumpListsEveryOptionWithAComment) {
                           "logodds_max", "min_range", "max_range", "ray_mode", "decimation",
                           "decimation_3d_range", "min_eigen_ratio", "min_eigen_abs", "threads"})
     EXPECT_NE(ins.str().find(key), std::string::npos) << key;
-  for (const char* key : {"likelihood_method", "decimation", "decimation_3d_range",
-                          "outlier_likelihood", "search_neighbours", "min_range", "max_range",
-                          "scale", "ndt_mcl_cell_factor", "ndt_mcl_max_gaussians"})
+  for (const char* key :
+       {"likelihood_method", "decimation", "decimation_3d_range", "outlier_likelihood",
+        "search_neighbours", "min_range", "max_range", "scale", "ndt_mcl_scan_factor",
+        "ndt_mcl_map_factor", "ndt_mcl_max_gaussians"})
     EXPECT_NE(lik.str().find(key), std::string::npos) << key;
   EXPECT_NE(lik.str().find("Points"), std::string::npos) << "enum written by name";
   EXPECT_NE(ins.str().find("PerPoint"), std::string::npos) << "enum written by name";
@@ -225,9 +228,11 @@ TEST(IniOptions, BadValuesFailAtLoadNamingTheOption) {
       {"max_range = 0", "max_range"},
       {"likelihood_method = ndt_mcl", "likelihood_method"},
       {"likelihood_method = 2", "likelihood_method = 2"},
-      {"ndt_mcl_cell_factor = 0", "[s] ndt_mcl_cell_factor = 0: must be in [1, 64]"},
-      {"ndt_mcl_cell_factor = 65", "ndt_mcl_cell_factor = 65"},
-      {"ndt_mcl_cell_factor = 2.5", "ndt_mcl_cell_factor = 2.5"},
+      {"ndt_mcl_scan_factor = 0", "[s] ndt_mcl_scan_factor = 0: must be in [1, 64]"},
+      {"ndt_mcl_scan_factor = 65", "ndt_mcl_scan_factor = 65"},
+      {"ndt_mcl_scan_factor = 2.5", "ndt_mcl_scan_factor = 2.5"},
+      {"ndt_mcl_map_factor = 0", "[s] ndt_mcl_map_factor = 0: must be in [1, 64]"},
+      {"ndt_mcl_map_factor = x", "ndt_mcl_map_factor = x"},
       {"ndt_mcl_max_gaussians = 0", "[s] ndt_mcl_max_gaussians = 0: must be in [1, 100000]"},
       {"ndt_mcl_max_gaussians = 1e3", "ndt_mcl_max_gaussians = 1e3"},
       {"ndt_mcl_max_gaussians = many", "ndt_mcl_max_gaussians = many"},

@@ -127,6 +127,8 @@ TEST(LikelihoodNdtMcl, EqualsTheCoreOnTheRobotFramePoints) {
   map.likelihoodOptions.scale = 0.3;
   map.likelihoodOptions.outlier_likelihood = 0.1;
   map.likelihoodOptions.min_range = 1.0;
+  map.likelihoodOptions.ndt_mcl_scan_factor = 3;
+  map.likelihoodOptions.ndt_mcl_map_factor = 2;
   for (int i = 0; i < 4; ++i)
     map.insertObservation(*cloudObservation(ndtom::testing::balmScan(i)), poses[size_t(i)]);
 
@@ -152,7 +154,7 @@ TEST(LikelihoodNdtMcl, EqualsTheCoreOnTheRobotFramePoints) {
     robot_points.emplace_back(x, y, z);
   }
   ndtom::ScanNdtOptions scan_options;
-  scan_options.cell_size = 0.4;
+  scan_options.cell_size = 0.6;
   const ndtom::ScanNdt scan = ndtom::buildScanNdt(robot_points, scan_options);
   const ndtom::NdtMclMap level(map.ndtMap().coarsened(2));
   ndtom::NdtMclOptions core;

@@ -37,7 +37,8 @@ CNDTOccupancyMap::Ptr sampleMap() {
   map->insertionOptions.threads = 3;
   map->likelihoodOptions.decimation = 3;
   map->likelihoodOptions.likelihood_method = CNDTOccupancyMap::TLikelihoodMethod::NdtMcl;
-  map->likelihoodOptions.ndt_mcl_cell_factor = 3;
+  map->likelihoodOptions.ndt_mcl_scan_factor = 4;
+  map->likelihoodOptions.ndt_mcl_map_factor = 2;
   map->likelihoodOptions.ndt_mcl_max_gaussians = 250;
   map->renderOptions.subdivisions = 2;
   map->genericMapParams.enableSaveAs3DObject = false;
@@ -68,7 +69,7 @@ void expectSameMaps(const CNDTOccupancyMap& a, const CNDTOccupancyMap& b) {
 // Insertion options version 1 is version 0 with `threads` (int32) appended.
 constexpr size_t kThreadsInInsertionOptions = 86;
 constexpr size_t kInsertionOptionsV1 = kThreadsInInsertionOptions + 4;
-// Likelihood options version 1 is version 0 with the method and the two NdtMcl options (three
+// Likelihood options version 1 is version 0 with the method and the three NdtMcl options (four
 // int32) appended.
 constexpr size_t kMethodInLikelihoodOptions = 42;
 
@@ -269,8 +270,10 @@ TEST(Serialization, CorruptOptionsAreRejectedByName) {
   EXPECT_TRUE(contains(a.readWith(a.likelihood + kMethodInLikelihoodOptions, int32_t(2)),
                        "likelihoodOptions.likelihood_method = 2: unknown method"));
   EXPECT_TRUE(contains(a.readWith(a.likelihood + kMethodInLikelihoodOptions + 4, int32_t(0)),
-                       "likelihoodOptions: ndt_mcl_cell_factor = 0"));
-  EXPECT_TRUE(contains(a.readWith(a.likelihood + kMethodInLikelihoodOptions + 8, int32_t(-3)),
+                       "likelihoodOptions: ndt_mcl_scan_factor = 0"));
+  EXPECT_TRUE(contains(a.readWith(a.likelihood + kMethodInLikelihoodOptions + 8, int32_t(99)),
+                       "likelihoodOptions: ndt_mcl_map_factor = 99"));
+  EXPECT_TRUE(contains(a.readWith(a.likelihood + kMethodInLikelihoodOptions + 12, int32_t(-3)),
                        "likelihoodOptions: ndt_mcl_max_gaussians = -3"));
   EXPECT_TRUE(contains(a.readWith(a.likelihood, uint8_t(2)), "unknown serialization version"));
   EXPECT_TRUE(contains(a.readWith(a.render + 9, uint32_t(30)), "renderOptions: subdivisions = 30"));
@@ -371,7 +374,8 @@ TEST(Serialization, ArchiveOfThePreviousVersionLoadsWithOneThread) {
   EXPECT_EQ(map.likelihoodOptions.decimation, 4u);
   EXPECT_EQ(map.likelihoodOptions.scale, 0.5);
   EXPECT_EQ(map.likelihoodOptions.likelihood_method, CNDTOccupancyMap::TLikelihoodMethod::Points);
-  EXPECT_EQ(map.likelihoodOptions.ndt_mcl_cell_factor, 2);
+  EXPECT_EQ(map.likelihoodOptions.ndt_mcl_scan_factor, 2);
+  EXPECT_EQ(map.likelihoodOptions.ndt_mcl_map_factor, 1);
   EXPECT_EQ(map.likelihoodOptions.ndt_mcl_max_gaussians, 300);
   EXPECT_TRUE(map.renderOptions.show_free_cells);
   EXPECT_EQ(map.ndtMap().numCells(), 97u);
@@ -382,13 +386,13 @@ TEST(Serialization, ArchiveOfThePreviousVersionLoadsWithOneThread) {
 
   // Written again both option blocks are version 1, and otherwise the same bytes.
   std::vector<uint8_t> again = archiveBytes(map);
-  ASSERT_EQ(again.size(), old.size() + 4 + 12);
+  ASSERT_EQ(again.size(), old.size() + 4 + 16);
   const size_t likelihood = insertion + kInsertionOptionsV1;
   EXPECT_EQ(again[insertion], 1);
   EXPECT_EQ(again[likelihood], 1);
   again[likelihood] = 0;
   again.erase(again.begin() + long(likelihood + kMethodInLikelihoodOptions),
-              again.begin() + long(likelihood + kMethodInLikelihoodOptions + 12));
+              again.begin() + long(likelihood + kMethodInLikelihoodOptions + 16));
   again[insertion] = 0;
   again.erase(again.begin() + long(insertion + kThreadsInInsertionOptions),
               again.begin() + long(insertion + kThreadsInInsertionOptions + 4));
@@ -396,19 +400,20 @@ TEST(Serialization, ArchiveOfThePreviousVersionLoadsWithOneThread) {
 }
 
 TEST(Serialization, HandMadeLikelihoodVersion0ArchiveLoadsWithThePointsMethod) {
-  // sampleMap() (NdtMcl, factor 3, 250 Gaussians) in the likelihood options' version 0
-  // layout: version byte 0, none of the three fields version 1 added.
+  // sampleMap() (NdtMcl, factors 4 and 2, 250 Gaussians) in the likelihood options' version
+  // 0 layout: version byte 0, none of the four fields version 1 added.
   const Archive a;
   ASSERT_EQ(a.bytes[a.likelihood], 1);
   std::vector<uint8_t> v0 = a.bytes;
   v0[a.likelihood] = 0;
   v0.erase(v0.begin() + long(a.likelihood + kMethodInLikelihoodOptions),
-           v0.begin() + long(a.likelihood + kMethodInLikelihoodOptions + 12));
+           v0.begin() + long(a.likelihood + kMethodInLikelihoodOptions + 16));
   CNDTOccupancyMap map;
   ASSERT_EQ(readInto(map, v0), "");
   const auto& o = map.likelihoodOptions;
   EXPECT_EQ(o.likelihood_method, CNDTOccupancyMap::TLikelihoodMethod::Points);
-  EXPECT_EQ(o.ndt_mcl_cell_factor, 2);
+  EXPECT_EQ(o.ndt_mcl_scan_factor, 2);
+  EXPECT_EQ(o.ndt_mcl_map_factor, 1);
   EXPECT_EQ(o.ndt_mcl_max_gaussians, 300);
   EXPECT_EQ(o.decimation, 3u) << "the version 0 fields as stored";
   map.likelihoodOptions = a.map->likelihoodOptions;

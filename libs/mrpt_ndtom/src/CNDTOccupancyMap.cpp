@@ -155,8 +155,8 @@ std::shared_ptr<const ndtom::GaussianLookup> CNDTOccupancyMap::gaussianLookup() 
 }
 
 std::shared_ptr<const ndtom::NdtMclMap> CNDTOccupancyMap::ndtMclMap() const {
-  const int factor = likelihoodOptions.ndt_mcl_cell_factor;
-  ASSERTMSG_(factor >= 1, "likelihoodOptions.ndt_mcl_cell_factor must be >= 1");
+  const int factor = likelihoodOptions.ndt_mcl_map_factor;
+  ASSERTMSG_(factor >= 1, "likelihoodOptions.ndt_mcl_map_factor must be >= 1");
   std::lock_guard<std::mutex> lock(m_lookup_mutex);
   if (!m_mcl_map || m_mcl_factor != factor) {
     m_mcl_map =

@@ -48,7 +48,7 @@ std::shared_ptr<const ndtom::ScanNdt> CNDTOccupancyMap::scanNdt(
     const mrpt::obs::CObservation& obs) const {
   const TLikelihoodOptions& o = likelihoodOptions;
   detail::ScanNdtKey key = detail::ScanNdtKey::of(obs);
-  key.cell_size = m_map.options().resolution * o.ndt_mcl_cell_factor;
+  key.cell_size = m_map.options().resolution * o.ndt_mcl_scan_factor;
   key.max_gaussians = size_t(o.ndt_mcl_max_gaussians);
   key.min_range = o.min_range;
   key.max_range = o.max_range;

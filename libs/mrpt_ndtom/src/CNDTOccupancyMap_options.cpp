@@ -17,9 +17,9 @@
 namespace mrpt_ndtom {
 namespace {
 
-// NdtMcl limits: a coarsening beyond 64 cells is a different map, and more scan Gaussians than
-// this cost milliseconds per particle.
-constexpr int32_t kMaxNdtMclCellFactor = 64;
+// NdtMcl limits: cells beyond 64 map cells describe another scene, and more scan Gaussians
+// than this cost milliseconds per particle.
+constexpr int32_t kMaxNdtMclFactor = 64;
 constexpr int32_t kMaxNdtMclGaussians = 100000;
 
 // Decimations are read as signed integers so that "-1" is reported, not wrapped.
@@ -178,8 +178,10 @@ void CNDTOccupancyMap::TLikelihoodOptions::loadFromConfigFile(
   MRPT_LOAD_CONFIG_VAR(min_range, double, source, section);
   MRPT_LOAD_CONFIG_VAR(max_range, double, source, section);
   MRPT_LOAD_CONFIG_VAR(scale, double, source, section);
-  ndt_mcl_cell_factor = int32_t(detail::readInteger(source, section, "ndt_mcl_cell_factor",
-                                                    ndt_mcl_cell_factor, 1, kMaxNdtMclCellFactor));
+  ndt_mcl_scan_factor = int32_t(detail::readInteger(source, section, "ndt_mcl_scan_factor",
+                                                    ndt_mcl_scan_factor, 1, kMaxNdtMclFactor));
+  ndt_mcl_map_factor = int32_t(detail::readInteger(source, section, "ndt_mcl_map_factor",
+                                                   ndt_mcl_map_factor, 1, kMaxNdtMclFactor));
   ndt_mcl_max_gaussians = int32_t(detail::readInteger(
       source, section, "ndt_mcl_max_gaussians", ndt_mcl_max_gaussians, 1, kMaxNdtMclGaussians));
   validateSection(section, [this] { validate(); });
@@ -199,8 +201,9 @@ void CNDTOccupancyMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfi
   MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Closer points are not used [m]");
   MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Farther points are not used [m] (inf: no limit)");
   MRPT_SAVE_CONFIG_VAR_COMMENT(scale, "Multiplies the log-likelihood (< 1 flattens weights)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_cell_factor,
-                               "NdtMcl: scan cells and map level in map cells, in [1, 64]");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_scan_factor, "NdtMcl: scan cell edge in map cells, [1, 64]");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_map_factor,
+                               "NdtMcl: map coarsening scored against, [1, 64] (1: the map)");
   MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_max_gaussians,
                                "NdtMcl: scan Gaussians kept (most points), in [1, 100000]");
 }
@@ -218,9 +221,12 @@ void CNDTOccupancyMap::TLikelihoodOptions::validate() const {
   else if (likelihood_method != TLikelihoodMethod::Points &&
            likelihood_method != TLikelihoodMethod::NdtMcl)
     msg << "likelihood_method = " << int32_t(likelihood_method) << ": unknown method";
-  else if (ndt_mcl_cell_factor < 1 || ndt_mcl_cell_factor > kMaxNdtMclCellFactor)
-    msg << "ndt_mcl_cell_factor = " << ndt_mcl_cell_factor << ": must be in [1, "
-        << kMaxNdtMclCellFactor << "]";
+  else if (ndt_mcl_scan_factor < 1 || ndt_mcl_scan_factor > kMaxNdtMclFactor)
+    msg << "ndt_mcl_scan_factor = " << ndt_mcl_scan_factor << ": must be in [1, "
+        << kMaxNdtMclFactor << "]";
+  else if (ndt_mcl_map_factor < 1 || ndt_mcl_map_factor > kMaxNdtMclFactor)
+    msg << "ndt_mcl_map_factor = " << ndt_mcl_map_factor << ": must be in [1, " << kMaxNdtMclFactor
+        << "]";
   else if (ndt_mcl_max_gaussians < 1 || ndt_mcl_max_gaussians > kMaxNdtMclGaussians)
     msg << "ndt_mcl_max_gaussians = " << ndt_mcl_max_gaussians << ": must be in [1, "
         << kMaxNdtMclGaussians << "]";
@@ -230,12 +236,12 @@ void CNDTOccupancyMap::TLikelihoodOptions::validate() const {
   ndtom::validate(core);
 }
 
-// Version 1 appends the method and the NdtMcl options to version 0.
+// Version 1 appends the method and the three NdtMcl options to version 0.
 void CNDTOccupancyMap::TLikelihoodOptions::writeToStream(mrpt::serialization::CArchive& out) const {
   const uint8_t version = 1;
   out << version << decimation << decimation_3d_range << outlier_likelihood << search_neighbours
-      << min_range << max_range << scale << int32_t(likelihood_method) << ndt_mcl_cell_factor
-      << ndt_mcl_max_gaussians;
+      << min_range << max_range << scale << int32_t(likelihood_method) << ndt_mcl_scan_factor
+      << ndt_mcl_map_factor << ndt_mcl_max_gaussians;
 }
 
 // As TInsertionOptions::readFromStream: validated, unchanged on error. Version 0 archives
@@ -252,7 +258,8 @@ void CNDTOccupancyMap::TLikelihoodOptions::readFromStream(mrpt::serialization::C
       in >> read.min_range >> read.max_range >> read.scale;
       if (version >= 1) {
         int32_t method;
-        in >> method >> read.ndt_mcl_cell_factor >> read.ndt_mcl_max_gaussians;
+        in >> method >> read.ndt_mcl_scan_factor >> read.ndt_mcl_map_factor >>
+            read.ndt_mcl_max_gaussians;
         // Checked here, as a number: an enum holding another value is not one of the methods.
         if (method != int32_t(TLikelihoodMethod::Points) &&
             method != int32_t(TLikelihoodMethod::NdtMcl))
@@ -273,7 +280,8 @@ bool CNDTOccupancyMap::TLikelihoodOptions::operator==(const TLikelihoodOptions& 
          decimation_3d_range == o.decimation_3d_range &&
          outlier_likelihood == o.outlier_likelihood && search_neighbours == o.search_neighbours &&
          min_range == o.min_range && max_range == o.max_range && scale == o.scale &&
-         ndt_mcl_cell_factor == o.ndt_mcl_cell_factor &&
+         ndt_mcl_scan_factor == o.ndt_mcl_scan_factor &&
+         ndt_mcl_map_factor == o.ndt_mcl_map_factor &&
          ndt_mcl_max_gaussians == o.ndt_mcl_max_gaussians;
 }
 

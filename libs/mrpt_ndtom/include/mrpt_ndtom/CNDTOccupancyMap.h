@@ -117,9 +117,11 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
     double max_range{std::numeric_limits<double>::infinity()};  ///< (Default: inf)
     /// Multiplies the summed log-likelihood: < 1 flattens particle weights (Default: 1)
     double scale{1.0};
-    /// NdtMcl: the scan's cells, and the map's exact coarsening they are scored against, are
-    /// this many map cells, in [1, 64] (Default: 2)
-    int32_t ndt_mcl_cell_factor{2};
+    /// NdtMcl: edge of the scan's cells, in map cells, in [1, 64] (Default: 2)
+    int32_t ndt_mcl_scan_factor{2};
+    /// NdtMcl: the map's exact coarsening the scan is scored against, in map cells, in
+    /// [1, 64]; 1 is the map itself (Default: 1)
+    int32_t ndt_mcl_map_factor{1};
     /// NdtMcl: scan Gaussians kept, those with the most points, in [1, 100000]; the cost per
     /// particle grows with it (Default: 300)
     int32_t ndt_mcl_max_gaussians{300};
@@ -157,7 +159,7 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
   /// The prepared Gaussians of the current map state (built on first use, then shared).
   std::shared_ptr<const ndtom::GaussianLookup> gaussianLookup() const;
   /// The map's Gaussians as the NdtMcl likelihood scores against them: the exact coarsening by
-  /// likelihoodOptions.ndt_mcl_cell_factor (built on first use, then shared).
+  /// likelihoodOptions.ndt_mcl_map_factor (built on first use, then shared).
   std::shared_ptr<const ndtom::NdtMclMap> ndtMclMap() const;
   /// The NDT the NdtMcl likelihood builds of `obs` (robot frame), as likelihoodOptions say;
   /// nullptr for an unsupported observation. Kept while particles are scored with it.

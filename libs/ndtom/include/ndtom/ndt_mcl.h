@@ -2,10 +2,11 @@
 // "Normal Distributions Transform Monte-Carlo Localization (NDT-MCL)", IROS 2013): a
 // particle filter scores each particle by the scan's own NDT against the map's.
 //
-// Once per observation the scan is reduced to the Gaussians of its points in cells of the
-// map level's edge, in the sensor frame, and only the `max_gaussians` backed by the most
-// points are kept (buildScanNdt). Once per map state the map's Gaussians are put in a table
-// by cell (NdtMclMap). Then, per particle pose (R, t), each scan Gaussian i is moved into the
+// Once per observation the scan is reduced to the Gaussians of its points in cells of its
+// own edge, in the sensor frame, and only `max_gaussians` of them are kept, taken in turn
+// from the cells facing x, y and z, most points first (normal-space sampling, so that every
+// direction stays constrained; buildScanNdt). Once per map state the map's Gaussians are put in a
+// table by cell (NdtMclMap). Then, per particle pose (R, t), each scan Gaussian i is moved into the
 // map and scored against the map Gaussian j of the cell its mean falls in, found by direct
 // lookup (no search), with the covariances summed:
 //
@@ -33,10 +34,12 @@
 namespace ndtom {
 
 struct ScanNdtOptions {
-  /// Edge of the scan's cells (m); score against a map level of the same edge (Default: 0.4).
+  /// Edge of the scan's cells (m) (Default: 0.4). NDT-MCL scores against map cells of the
+  /// same edge; a finer map level works too (a scan Gaussian is then matched to the piece of
+  /// surface its mean falls on).
   double cell_size = 0.4;
-  /// Scan Gaussians kept, those with the most points (Default: 300). The per-particle cost
-  /// grows with it; the scan NDT itself is built once per observation.
+  /// Scan Gaussians kept (Default: 300), in turn from the cells facing x, y and z, most points
+  /// first. The per-particle cost grows with it; the scan NDT is built once per observation.
   size_t max_gaussians = 300;
   /// Eigenvalue floor of the scan's covariances (Default: as the map's).
   Regularization regularization;
