@@ -6,6 +6,7 @@
 //   pose applied) give the core's score exactly; the NDT is built once per observation;
 // - bad input: no overlap with the map, empty and all-invalid scans, unsupported
 //   observations give finite values (the floor, or 0 for no information), never a throw;
+//   bad options set in code throw naming the option;
 // - concurrent calls as pf-localization's repetitions make them agree with sequential ones.
 #include <gtest/gtest.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -237,6 +238,33 @@ TEST(LikelihoodNdtMcl, BadInputGivesFiniteValuesNeverAThrow) {
   CNDTOccupancyMap empty_map = ndtMclMap();
   EXPECT_NEAR(empty_map.computeObservationLikelihood(*obs, poses[5]), floor,
               1e-9 * std::abs(floor));
+}
+
+TEST(LikelihoodNdtMcl, OptionsSetInCodeAreCheckedWhenScoring) {
+  // The .ini loader checks the options; set in code they are checked at the first score of
+  // an observation, and a bad one throws naming it instead of scoring something else.
+  const std::vector<CPose3D> poses = ndtom::testing::balmPoses();
+  CNDTOccupancyMap map = ndtMclMap();
+  map.insertObservation(*cloudObservation(ndtom::testing::balmScan(0)), poses[0]);
+  const auto obs = cloudObservation(ndtom::testing::balmScan(1));
+  const auto message = [&](auto change) {
+    CNDTOccupancyMap copy(map);
+    change(copy.likelihoodOptions);
+    try {
+      copy.computeObservationLikelihood(*obs, poses[1]);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  using O = CNDTOccupancyMap::TLikelihoodOptions;
+  EXPECT_NE(message([](O& o) { o.ndt_mcl_max_gaussians = -5; }).find("ndt_mcl_max_gaussians = -5"),
+            std::string::npos);
+  EXPECT_NE(message([](O& o) { o.ndt_mcl_scan_factor = 0; }).find("ndt_mcl_scan_factor = 0"),
+            std::string::npos);
+  EXPECT_NE(message([](O& o) { o.ndt_mcl_map_factor = 0; }).find("ndt_mcl_map_factor"),
+            std::string::npos);
+  EXPECT_EQ(message([](O&) {}), "");
 }
 
 TEST(LikelihoodNdtMcl, ConcurrentCallsAgreeWithSequentialOnes) {

@@ -159,8 +159,8 @@ std::shared_ptr<const ndtom::NdtMclMap> CNDTOccupancyMap::ndtMclMap() const {
   ASSERTMSG_(factor >= 1, "likelihoodOptions.ndt_mcl_map_factor must be >= 1");
   std::lock_guard<std::mutex> lock(m_lookup_mutex);
   if (!m_mcl_map || m_mcl_factor != factor) {
-    m_mcl_map =
-        std::make_shared<const ndtom::NdtMclMap>(factor == 1 ? m_map : m_map.coarsened(factor));
+    m_mcl_map = factor == 1 ? std::make_shared<const ndtom::NdtMclMap>(m_map)
+                            : std::make_shared<const ndtom::NdtMclMap>(m_map.coarsened(factor));
     m_mcl_factor = factor;
   }
   return m_mcl_map;

@@ -56,6 +56,12 @@ std::shared_ptr<const ndtom::ScanNdt> CNDTOccupancyMap::scanNdt(
   key.min_eigen_abs = m_map.options().regularization.min_eigen_abs;
   if (!isSupportedObservation(obs)) return nullptr;
   return m_scan_ndts->get(key, [&] {
+    // Options set in code were never checked: a negative count would keep every Gaussian.
+    try {
+      o.validate();
+    } catch (const std::invalid_argument& e) {
+      THROW_EXCEPTION(std::string("CNDTOccupancyMap::likelihoodOptions: ") + e.what());
+    }
     const auto extracted = observationPoints(obs, mrpt::poses::CPose3D());
     std::vector<Vector3d> points;
     points.reserve(extracted->points_world.size());
