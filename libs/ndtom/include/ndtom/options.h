@@ -1,10 +1,12 @@
 // Options of an NDT-OM map. validate() rejects bad values with a message naming the option.
 #pragma once
 
+#include <cstdint>
 #include <limits>
 #include <string>
 
 #include "ndtom/gaussian.h"
+#include "ndtom/memory_budget.h"
 
 namespace ndtom {
 
@@ -43,6 +45,10 @@ struct InsertOptions {
   /// it: counts are integers summed over threads. Not stored in map files.
   int threads = 1;
   static constexpr int kMaxThreads = 256;
+  /// Bytes the map and one scan's working memory may take; a scan that would need more is
+  /// refused with MemoryBudgetError and the map left as it was (Default: a quarter of the
+  /// physical memory, at most 512 MB). Like threads, not stored in map files.
+  uint64_t memory_budget = defaultMemoryBudget();
 };
 
 struct MapOptions {
