@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 
+#include "input_format.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/run_program.h"
 
@@ -122,6 +123,7 @@ void checkSection(const mrpt::config::CConfigFileBase& file, const std::string& 
 
 InsertionOptions loadFile(const InsertionSettings& s) {
   InsertionOptions options;
+  requireRegularFile("--config", s.config_file);  // MRPT's reader would wait on a FIFO
   if (!std::ifstream(s.config_file).good())
     throw UsageError("--config " + s.config_file + ": cannot open the file");
   const mrpt::config::CConfigFile file(s.config_file);

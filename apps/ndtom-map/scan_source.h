@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -65,6 +66,9 @@ struct SourceSettings {
   uint32_t decimation = 1;           ///< 1 point in N of scans and clouds
   uint32_t decimation_3d_range = 1;  ///< depth images: every N-th row and column
   size_t max_scans = 0;              ///< 0 = all
+  /// Points a scan may have (what the memory budget holds): readers refuse larger scans
+  /// before allocating them (Default: no limit).
+  uint64_t max_scan_points = UINT64_MAX;
 };
 
 /// Opens the input (detecting its format if Auto) and checks it can be read completely:

@@ -7,13 +7,16 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <string>
 #include <thread>
 
 namespace ndtom::testing {
 
-/// A FIFO at `path`, held open for reading and writing by this object for `seconds`: a
-/// reader that opens it anyway sees the end of the file then, instead of blocking the test.
+/// A FIFO at `path`, held open for reading and writing by this object for at most `seconds`
+/// (or until it is destroyed): a reader that opens it anyway sees the end of the file then,
+/// instead of blocking the test for ever.
 class Fifo {
  public:
   explicit Fifo(const std::string& path, double seconds = 2.0) : path_(path) {
@@ -21,11 +24,17 @@ class Fifo {
     ::mkfifo(path.c_str(), 0600);
     fd_ = ::open(path.c_str(), O_RDWR | O_NONBLOCK);
     closer_ = std::thread([this, seconds] {
-      std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+      std::unique_lock<std::mutex> lock(mutex_);
+      done_.wait_for(lock, std::chrono::duration<double>(seconds), [this] { return finished_; });
       ::close(fd_);
     });
   }
   ~Fifo() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      finished_ = true;
+    }
+    done_.notify_one();
     closer_.join();
     ::unlink(path_.c_str());
   }
@@ -36,6 +45,9 @@ class Fifo {
  private:
   std::string path_;
   int fd_ = -1;
+  std::mutex mutex_;
+  std::condition_variable done_;
+  bool finished_ = false;
   std::thread closer_;
 };
 

@@ -75,4 +75,12 @@ void writeFileSynced(const std::string& path, const FileFiller& fill) {
   writeSynced(path, path, fill);
 }
 
+void syncFile(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) failWith("cannot write", path, errno);
+  const int err = ::fsync(fd) == 0 ? 0 : errno;
+  ::close(fd);
+  if (err != 0) failWith("cannot write", path, err);
+}
+
 }  // namespace ndtom

@@ -112,6 +112,10 @@ std::optional<Gaussian> NdtMap::gaussian(const CellIndex& index, bool regularize
   return gaussianOf(*c, regularized);
 }
 
+uint64_t NdtMap::maxScanPoints(uint64_t budget) {
+  return budget / ScanUpdater::kBytesPerPoint;
+}
+
 size_t NdtMap::memoryBytes() const {
   return grid_.memoryBytes() + stats_bytes_;
 }

@@ -69,6 +69,14 @@ struct ScanScratch {
 
 class ScanUpdater {
  public:
+  /// What the memory budget counts per point of a scan (classification, sorting and grouping
+  /// buffers) and per block a scan adds (its counters, and the map's new block).
+  static constexpr uint64_t kBytesPerPoint = sizeof(PointKind) + 2 * sizeof(Eigen::Vector3d) +
+                                             sizeof(CellIndex) + 2 * sizeof(uint64_t) +
+                                             sizeof(EndGroup);
+  static constexpr uint64_t kBytesPerNewBlock =
+      ScanCounts::kBytesPerBlock + BlockGrid<NdtMap::Block>::kBytesPerBlock;
+
   ScanUpdater(NdtMap& map, const InsertOptions& options, ScanScratch& scratch)
       : map_(map), options_(options), s_(scratch) {}
 
@@ -80,13 +88,6 @@ class ScanUpdater {
   /// rays among threads. Not fewer than the threads allowed.
   static constexpr size_t kRayPieces = 256;
   static_assert(kRayPieces >= size_t(InsertOptions::kMaxThreads), "a piece per thread");
-  /// What the memory budget counts per point of a scan (classification, sorting and grouping
-  /// buffers) and per block a scan adds (its counters, and the map's new block).
-  static constexpr uint64_t kBytesPerPoint = sizeof(PointKind) + 2 * sizeof(Eigen::Vector3d) +
-                                             sizeof(CellIndex) + 2 * sizeof(uint64_t) +
-                                             sizeof(EndGroup);
-  static constexpr uint64_t kBytesPerNewBlock =
-      ScanCounts::kBytesPerBlock + BlockGrid<NdtMap::Block>::kBytesPerBlock;
 
   /// Memory budget, before classification: the map and the scan's per-point buffers.
   void checkBudgetForPoints(size_t points);

@@ -24,6 +24,10 @@ void writeFileAtomically(const std::string& path, const FileFiller& fill);
 /// and std::runtime_error names it.
 void writeFileSynced(const std::string& path, const FileFiller& fill);
 
+/// Flushes a file written by other code (e.g. another library) to disk; throws
+/// std::runtime_error naming it on failure.
+void syncFile(const std::string& path);
+
 /// Renames `from` over `to` (same filesystem), throwing std::runtime_error on failure.
 void renameFile(const std::string& from, const std::string& to);
 

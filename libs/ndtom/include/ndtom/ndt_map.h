@@ -80,6 +80,11 @@ class NdtMap {
   template <class F>
   void forEachGaussian(F&& f, bool regularized = true) const;
 
+  /// Most points a scan can have under a memory budget of `budget` bytes: each takes ~160
+  /// bytes of buffers while it is inserted. For readers, to refuse larger scans before
+  /// allocating them.
+  static uint64_t maxScanPoints(uint64_t budget);
+
   /// Heap bytes used by cells, blocks, index and statistics. O(1): the statistics' share is
   /// kept up to date as they change (the memory budget reads it before every scan).
   size_t memoryBytes() const;
