@@ -1,7 +1,7 @@
 // One rule for what a cell may hold (cell_rules.h), applied alike by insertion, setCell(),
 // saving and loading: everything a map can hold saves and loads back byte for byte, and a
-// file holding anything else is refused even with a valid checksum. Files are written here
-// by hand, from the layout documented in map_io.h.
+// file holding anything else is refused even with a valid checksum. Files are written by
+// hand (support/ndtom_file_builder.h), from the layout documented in map_io.h.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,73 +14,18 @@
 #include "ndtom/cell_rules.h"
 #include "ndtom/crc32.h"
 #include "ndtom/map_io.h"
+#include "support/ndtom_file_builder.h"
 
 using Eigen::Vector3d;
 using ndtom::CellIndex;
 using ndtom::CellStats;
 using ndtom::MapOptions;
 using ndtom::NdtMap;
+using ndtom::testing::FileBuilder;
 
 namespace {
 
 constexpr int32_t kTop = ndtom::kMaxCellIndex - 1;  // the largest supported index
-
-// A .ndtom file written field by field, with a correct checksum.
-class FileBuilder {
- public:
-  /// The options of `o`, except `replaced` (if given) stored as `value`.
-  explicit FileBuilder(const MapOptions& o = {}, const std::string& replaced = "",
-                       double value = 0) {
-    bytes("NDTOMMAP", 8);
-    u32(1);
-    const std::pair<const char*, double> options[] = {
-        {"resolution", o.resolution},
-        {"occupancy_enabled", o.occupancy.enabled ? 1.0 : 0.0},
-        {"p_hit", o.occupancy.p_hit},
-        {"p_miss", o.occupancy.p_miss},
-        {"logodds_min", o.occupancy.logodds_min},
-        {"logodds_max", o.occupancy.logodds_max},
-        {"min_range", o.insertion.min_range},
-        {"max_range", o.insertion.max_range},
-        {"ray_mode", double(int(o.insertion.ray_mode))},
-        {"min_eigen_ratio", o.regularization.min_eigen_ratio},
-        {"min_eigen_abs", o.regularization.min_eigen_abs}};
-    u32(11);
-    for (const auto& [name, stored] : options) {
-      out_.push_back(uint8_t(std::strlen(name)));
-      bytes(name, std::strlen(name));
-      f64(name == replaced ? value : stored);
-    }
-  }
-  void cells(uint64_t n) { u64(n); }
-  void cell(const CellIndex& c, float logodds, const CellStats& s = {}) {
-    for (int a = 0; a < 3; ++a) u32(uint32_t(c[a]));
-    uint32_t l;
-    std::memcpy(&l, &logodds, 4);
-    u32(l);
-    u32(s.n);
-    if (s.n == 0) return;
-    for (int a = 0; a < 3; ++a) f64(s.mean[a]);
-    const auto& m = s.scatter;
-    for (const double v : {m(0, 0), m(0, 1), m(0, 2), m(1, 1), m(1, 2), m(2, 2)}) f64(v);
-  }
-  std::vector<uint8_t> finish() const {
-    std::vector<uint8_t> b = out_;
-    const uint32_t crc = ndtom::crc32(b.data(), b.size());
-    for (int i = 0; i < 4; ++i) b.push_back(uint8_t(crc >> (8 * i)));
-    return b;
-  }
-
- private:
-  void bytes(const void* p, size_t n) {
-    out_.insert(out_.end(), static_cast<const uint8_t*>(p), static_cast<const uint8_t*>(p) + n);
-  }
-  void u32(uint32_t v) { bytes(&v, 4); }  // little-endian hosts, as the project
-  void u64(uint64_t v) { bytes(&v, 8); }
-  void f64(double v) { bytes(&v, 8); }
-
-  std::vector<uint8_t> out_;
-};
 
 CellStats threePoints(double half) {
   std::vector<Vector3d> pts = {

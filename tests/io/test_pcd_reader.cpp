@@ -6,10 +6,12 @@
 #include <iterator>
 
 #include "ndtom_io/pcd_reader.h"
+#include "support/pcd_bytes.h"
 #include "support/special_files.h"
 
 using ndtom::io::parsePcd;
 using ndtom::io::PcdError;
+using ndtom::testing::lzfLiterals;
 
 namespace {
 
@@ -22,17 +24,6 @@ std::string header(const std::string& fields, const std::string& size, const std
 template <class T>
 void append(std::string& s, T v) {
   s.append(reinterpret_cast<const char*>(&v), sizeof(v));
-}
-
-// A valid LZF stream made of literal runs only (control byte = run length − 1 < 32).
-std::string lzfLiterals(const std::string& raw) {
-  std::string out;
-  for (size_t i = 0; i < raw.size(); i += 32) {
-    const size_t run = std::min<size_t>(32, raw.size() - i);
-    out.push_back(char(run - 1));
-    out.append(raw, i, run);
-  }
-  return out;
 }
 
 void expectError(const std::string& bytes, const std::string& fragment,
@@ -151,36 +142,11 @@ TEST(PcdReader, WriteThenReadRoundTrip) {
 // wrapped to 0) passed the size check and the reader read past an empty buffer; COUNT
 // 4294967297 was read as 1 and SIZE 4294967300 as 4.
 TEST(PcdReader, HeaderSizesAreCheckedNotWrapped) {
-  std::string fields = "x y z", sizes = "8 8 8", types = "F F F",
-              counts = "1048576 1048576 1048576";
-  for (int i = 3; i < 131072; ++i) {
-    fields += " f" + std::to_string(i);
-    sizes += " 8";
-    types += " F";
-    counts += " 1048576";
-  }
-  std::string wrap = "FIELDS " + fields + "\nSIZE " + sizes + "\nTYPE " + types + "\nCOUNT " +
-                     counts + "\nWIDTH 16777216\nHEIGHT 1\nPOINTS 16777216\n" +
-                     "DATA binary_compressed\n";
-  append(wrap, uint32_t(0));
-  append(wrap, uint32_t(0));
-  expectError(wrap, "131072 FIELDS");
+  expectError(ndtom::testing::wrappingCompressedPcd(), "131072 FIELDS");
 
   // Within the field limits, 2^40 points of 2^24 bytes: the product wraps to 0.
-  std::string pad_fields, pad_sizes, pad_types, pad_counts;
-  for (int i = 0; i < 16; ++i) {
-    pad_fields += " p" + std::to_string(i);
-    pad_sizes += " 1";
-    pad_types += " U";
-    pad_counts += i == 0 ? " 1048564" : " 1048576";  // 12 bytes less for x y z
-  }
-  std::string big = "FIELDS x y z" + pad_fields + "\nSIZE 4 4 4" + pad_sizes + "\nTYPE F F F" +
-                    pad_types + "\nCOUNT 1 1 1" + pad_counts +
-                    "\nWIDTH 1099511627776\nHEIGHT 1\nPOINTS 1099511627776\n"
-                    "DATA binary_compressed\n";
-  append(big, uint32_t(0));
-  append(big, uint32_t(0));
-  expectError(big, "does not match the fields and POINTS", UINT64_MAX);
+  expectError(ndtom::testing::wideWrappingCompressedPcd(), "does not match the fields and POINTS",
+              UINT64_MAX);
 
   const std::string tail = "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n";
   expectError("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 4294967297 1 1\n" + tail,

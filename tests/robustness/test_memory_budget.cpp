@@ -12,8 +12,7 @@
 
 #include "ndtom/map_io.h"
 #include "ndtom/ndt_map.h"
-#include "ndtom_io/pcd_reader.h"
-#include "ndtom_io/pose_file.h"
+#include "support/lidar_scans.h"
 
 using Eigen::Vector3d;
 
@@ -104,20 +103,16 @@ TEST(MemoryBudget, ScanWithMorePointsThanTheBudgetHolds) {
 // Within the budget nothing changes: the real scans give the same map with a tight budget as
 // without one (the limit is checked when blocks are added, never per cell).
 TEST(MemoryBudget, ScansWithinTheBudgetGiveTheSameMap) {
-  const std::string dir = std::string(NDTOM_TEST_DATA_DIR) + "/balm-realworld/";
-  const auto poses = ndtom::io::readPoseFile(dir + "poses.txt");
   ndtom::MapOptions o;
   o.resolution = 0.4;
   o.insertion.max_range = 30;
   ndtom::NdtMap tight(o), loose(o);
-  for (size_t i = 0; i < 4; ++i) {
-    auto cloud = ndtom::io::readPcd(dir + "full" + std::to_string(i) + ".pcd");
-    for (auto& p : cloud.points) p = poses[i].pose * p;
+  for (const auto& scan : ndtom::testing::lidarScansInWorld(4)) {
     ndtom::InsertOptions in = o.insertion;
     in.memory_budget = 80000000;
-    tight.insertScan(cloud.points, poses[i].pose.translation(), in);
+    tight.insertScan(scan.points, scan.origin, in);
     in.memory_budget = uint64_t(1) << 40;
-    loose.insertScan(cloud.points, poses[i].pose.translation(), in);
+    loose.insertScan(scan.points, scan.origin, in);
   }
   EXPECT_EQ(ndtom::encodeMap(tight), ndtom::encodeMap(loose));
   EXPECT_GT(tight.numCells(), 10000u);
