@@ -6,6 +6,7 @@
 
 #include "input_format.h"
 #include "natural_order.h"
+#include "ndtom/checked_size.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_io/pcd_reader.h"
 #include "scan_source.h"
@@ -31,9 +32,7 @@ class PcdFolderSource : public ScanSource {
       : folder_(s.input),
         decimation_(s.decimation),
         // Points are decimated after reading: a file may hold `decimation` times more.
-        max_file_points_(s.max_scan_points / decimation_ > UINT64_MAX / decimation_
-                             ? UINT64_MAX
-                             : s.max_scan_points * decimation_) {
+        max_file_points_(ndtom::checkedMul(s.max_scan_points, decimation_).value_or(UINT64_MAX)) {
     if (!fs::is_directory(folder_))
       throw apps::UsageError(folder_ + ": not a folder of .pcd files");
     files_ = pcdFilesInNaturalOrder(folder_);

@@ -13,22 +13,23 @@ namespace fs = std::filesystem;
 namespace redteam {
 namespace {
 
-// The outputs under `prefix` and their bytes.
-std::map<std::string, std::string> outputSet(const std::string& prefix) {
-  std::map<std::string, std::string> set;
+// The outputs under `prefix` and a hash of their bytes (not the bytes: the harness would grow
+// with every set it keeps).
+std::map<std::string, size_t> outputSet(const std::string& prefix) {
+  std::map<std::string, size_t> set;
   const fs::path base(prefix);
   for (const auto& e : fs::directory_iterator(base.parent_path())) {
     const std::string name = e.path().filename().string();
     if (name.rfind(base.filename().string() + ".", 0) == 0 && e.is_regular_file())
-      set[name] = readFile(e.path().string());
+      set[name] = std::hash<std::string>{}(readFile(e.path().string()));
   }
   return set;
 }
 
 // "" if the outputs now are all those of `before`, or (if `new_allowed`) all new ones, with
 // no temporary left; else what is wrong.
-std::string wholeSet(const std::map<std::string, std::string>& before,
-                     const std::map<std::string, std::string>& after, bool new_allowed) {
+std::string wholeSet(const std::map<std::string, size_t>& before,
+                     const std::map<std::string, size_t>& after, bool new_allowed) {
   for (const auto& [name, bytes] : after)
     if (name.find(".tmp-") != std::string::npos || name.find(".old-") != std::string::npos)
       return "data loss: " + name + " left behind";
@@ -60,7 +61,7 @@ std::vector<Case> outputCases(const Context& c) {
     k.name = "rerun with " + blocked + " replaced by a folder";
     const std::string out = c.work + "/blocked" + std::to_string(id++) + "/out";
     k.argv = c.mapper_args(c.tum, out, {"--max-scans", "4"}, true);
-    auto before = std::make_shared<std::map<std::string, std::string>>();
+    auto before = std::make_shared<std::map<std::string, size_t>>();
     k.setup = [&c, out, blocked, before] {
       runCommand(c.mapper_args(c.tum, out, {"--max-scans", "2"}, true));
       *before = outputSet(out);
@@ -83,7 +84,7 @@ std::vector<Case> outputCases(const Context& c) {
       k.argv = c.mapper_args(lidar, out, {"--resolution", "0.1"}, true);
       k.limits.signal = signal;
       k.limits.signal_after_s = after;
-      auto before = std::make_shared<std::map<std::string, std::string>>();
+      auto before = std::make_shared<std::map<std::string, size_t>>();
       k.setup = [&c, out, before, lidar] {
         runCommand(c.mapper_args(lidar, out, {"--resolution", "0.4"}, true));
         *before = outputSet(out);
@@ -120,7 +121,7 @@ std::vector<Case> outputCases(const Context& c) {
     const std::string out = c.work + "/full" + std::to_string(id++) + "/out";
     k.argv = c.mapper_args(c.tum, out, {"--max-scans", "3"}, true);
     k.limits.file_size = limit;
-    auto before = std::make_shared<std::map<std::string, std::string>>();
+    auto before = std::make_shared<std::map<std::string, size_t>>();
     k.setup = [&c, out, before] {
       runCommand(c.mapper_args(c.tum, out, {"--max-scans", "1"}, true));
       *before = outputSet(out);

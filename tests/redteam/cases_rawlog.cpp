@@ -1,6 +1,7 @@
 // Class 7 of issue #17: damaged MRPT rawlogs. MRPT 2.5.8's own reader crashes on some (its
 // allocator returns NULL for a huge size and the vector is then written): such a crash is
 // MRPT's when MRPT's reader alone (the probe's mrpt-read) crashes on the same file too.
+#include <cstring>
 #include <filesystem>
 #include <random>
 
@@ -15,11 +16,22 @@ std::vector<Case> rawlogCases(const Context& c) {
   const std::string good = dir + "/good.rawlog";
   writeLaserRawlog(good, 6, 8.0f);
   const std::string bytes = readFile(good);
+  // Where the scans' ray counts (361, u32) are: the sizes MRPT's reader allocates from.
+  std::vector<size_t> counts;
+  for (size_t at = bytes.find(std::string("\x69\x01\0\0", 4)); at != std::string::npos;
+       at = bytes.find(std::string("\x69\x01\0\0", 4), at + 1))
+    counts.push_back(at);
   std::mt19937 rng(11);
-  for (int k = 0; k < 60; ++k) {
+  for (int k = 0; k < 72; ++k) {
     std::string damaged = bytes;
     std::string name;
-    if (k < 10) {  // cut short
+    if (k >= 60) {  // a ray count set to a huge size
+      const uint32_t sizes[3] = {0xFFFFFFFFu, 0x80000000u, 1000000000u};
+      const size_t at = counts[size_t(k - 60) / 3 % counts.size()];
+      std::memcpy(&damaged[at], &sizes[(k - 60) % 3], 4);
+      name = "a ray count at byte " + std::to_string(at) + " set to " +
+             std::to_string(sizes[(k - 60) % 3]);
+    } else if (k < 10) {  // cut short
       const size_t len = bytes.size() * size_t(k + 1) / 11;
       damaged.resize(len);
       name = "truncated at " + std::to_string(len);

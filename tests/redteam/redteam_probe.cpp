@@ -113,8 +113,10 @@ int run(int argc, char** argv) {
     for (int i = 1; i < 8; ++i) a.setCell({i & 1, (i >> 1) & 1, (i >> 2) & 1}, 1.f, s);
     const ndtom::NdtMap coarse = a.coarsened(2);
     a.merge(b);
-    const uint32_t merged = a.cell({0, 0, 0})->stats->n;
-    const uint32_t coarsened = coarse.cell({0, 0, 0})->stats->n;
+    // A count that wrapped to 0 leaves no statistics at all.
+    const auto* m = a.cell({0, 0, 0})->stats;
+    const auto* k = coarse.cell({0, 0, 0})->stats;
+    const uint32_t merged = m ? m->n : 0, coarsened = k ? k->n : 0;
     std::printf("ok merged=%u coarsened=%u\n", merged, coarsened);
     if (merged < n || coarsened < n) return 5;  // the count wrapped
   } else {

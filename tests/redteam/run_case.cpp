@@ -6,11 +6,23 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <fstream>
 #include <thread>
 
 namespace redteam {
 namespace {
+
+// The peak resident memory of a running process, from /proc (0 once it has exited).
+// getrusage() of the child would count the harness's own pages, which the child shares
+// between fork() and exec().
+uint64_t peakRss(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
+  return 0;
+}
 
 // Appends what can be read from non-blocking `fd` now.
 void drain(int fd, std::string& into) {
@@ -63,9 +75,11 @@ Outcome runCommand(const std::vector<std::string>& argv, const RunLimits& limits
   bool signal_sent = false;
   int status = 0;
   rusage usage{};
+  uint64_t peak = 0;
   for (;;) {
     drain(out_pipe[0], o.out);
     drain(err_pipe[0], o.err);
+    peak = std::max(peak, peakRss(pid));  // sampled until exit: the peak is a plateau
     const pid_t done = wait4(pid, &status, WNOHANG, &usage);
     if (done == pid) break;
     const double elapsed =
@@ -83,7 +97,7 @@ Outcome runCommand(const std::vector<std::string>& argv, const RunLimits& limits
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  o.peak_rss = uint64_t(usage.ru_maxrss) * 1024;
+  o.peak_rss = peak;
   if (WIFEXITED(status)) o.exit_code = WEXITSTATUS(status);
   if (WIFSIGNALED(status) && !o.timed_out) {
     o.signal = WTERMSIG(status);

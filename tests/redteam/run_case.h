@@ -21,7 +21,7 @@ struct Outcome {
   int signal = 0;      ///< the signal that ended it (not ours), 0 if none
   bool timed_out = false;
   bool signalled_by_us = false;
-  uint64_t peak_rss = 0;  ///< bytes (getrusage of the child)
+  uint64_t peak_rss = 0;  ///< bytes: the child's VmHWM, sampled every 5 ms until it exits
   double seconds = 0;
   std::string out, err;
 };
