@@ -168,7 +168,7 @@ TEST(MapperErrors, ScanOverTheMemoryBudget) {
   expectFailure(
       dir, kTum,
       {"--resolution 0.001 --max-scans 1", 1,
-       "depth/1311877813.991479.png in " + kTum + ": insertScan: a scan whose ray ends lie in"});
+       "depth/1311877813.991479.png in " + kTum + ": insertScan: a scan whose hits lie in"});
   expectFailure(dir, kTum,
                 {"--resolution 0.001 --max-scans 1 --memory-budget 300", 1,
                  "over the memory budget of 300.0 MB (--memory-budget, in MB)"});

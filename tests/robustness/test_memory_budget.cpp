@@ -87,7 +87,7 @@ TEST(MemoryBudget, DenseScanAtAFineResolutionIsRefusedBeforeTracing) {
   std::vector<Vector3d> pts;
   for (int i = 0; i < 100000; ++i) pts.emplace_back(u(rng), u(rng), 3);
   const std::string why = refusal(map, pts, unlimitedRange(128000000));
-  EXPECT_NE(why.find("insertScan: a scan whose ray ends lie in"), std::string::npos) << why;
+  EXPECT_NE(why.find("insertScan: a scan whose hits lie in"), std::string::npos) << why;
   EXPECT_NE(why.find("(resolution 0.001 m)"), std::string::npos) << why;
 }
 

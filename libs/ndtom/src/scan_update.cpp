@@ -100,20 +100,15 @@ void ScanUpdater::checkBudgetForPoints(size_t points) {
 }
 
 void ScanUpdater::checkBudgetForEnds() {
-  end_blocks_ = 0;
-  size_t hit_groups = 0;
-  for (size_t g = 0; g < s_.groups.size(); ++g) {
-    hit_groups += s_.groups[g].hit;
-    end_blocks_ += g == 0 || blockOf(s_.groups[g].cell) != blockOf(s_.groups[g - 1].cell);
-  }
-  budget_used_ += hit_groups * sizeof(CellStats) + end_blocks_ * kBytesPerNewBlock;
+  // The hit cells' blocks and statistics, counted by groupEndsByCell: no pass over the groups.
+  end_blocks_ = s_.hit_blocks.size();
+  budget_used_ += report_.cells_hit * sizeof(CellStats) + end_blocks_ * kBytesPerNewBlock;
   const uint64_t budget = options_.memory_budget;
   if (budget_used_ > budget) {
     char resolution[32];
     std::snprintf(resolution, sizeof(resolution), "%g", map_.options().resolution);
-    throw MemoryBudgetError("insertScan: a scan whose ray ends lie in " +
-                                std::to_string(end_blocks_) + " blocks of 8^3 cells (resolution " +
-                                resolution + " m)",
+    throw MemoryBudgetError("insertScan: a scan whose hits lie in " + std::to_string(end_blocks_) +
+                                " blocks of 8^3 cells (resolution " + resolution + " m)",
                             budget_used_, budget);
   }
   blocks_left_.store(int64_t((budget - budget_used_) / kBytesPerNewBlock),

@@ -91,8 +91,8 @@ class ScanUpdater {
 
   /// Memory budget, before classification: the map and the scan's per-point buffers.
   void checkBudgetForPoints(size_t points);
-  /// Before tracing: the blocks of the ray ends (a lower bound of the blocks the scan adds);
-  /// then limits the tracing tables to the blocks the budget leaves.
+  /// Before tracing: the blocks of the hits (a lower bound of the blocks the scan adds) and
+  /// their statistics; then limits the tracing tables to the blocks the budget leaves.
   void checkBudgetForEnds();
   void classifyPoints(const std::vector<Eigen::Vector3d>& points);
   std::pair<size_t, size_t> classifyChunk(size_t t) const;
