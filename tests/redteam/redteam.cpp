@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
     auto& row = table[k.category];
     ++row[kColumns];
     ++row[verdict];
-    if (input < 10000000) {
+    if (input < 10000000 && verdict != kMrptCrash) {  // MRPT's reader's memory is not ours
       max_rss_small[k.category] = std::max(max_rss_small[k.category], o.peak_rss);
       over_1gb_small += o.peak_rss >= 1000000000;
     }
@@ -167,7 +167,7 @@ int main(int argc, char** argv) {
   }
   std::printf("\n| category | tried |");
   for (const char* name : kColumnNames) std::printf(" %s |", name);
-  std::printf(" max RSS, inputs < 10 MB |\n|---|---:|");
+  std::printf(" max RSS, inputs < 10 MB, not MRPT's |\n|---|---:|");
   for (int col = 0; col < kColumns; ++col) std::printf("---:|");
   std::printf("---:|\n");
   std::array<int, kColumns + 1> total{};
@@ -181,7 +181,7 @@ int main(int argc, char** argv) {
   }
   std::printf("| **all** | %d |", total[kColumns]);
   for (int col = 0; col < kColumns; ++col) std::printf(" %d |", total[col]);
-  std::printf(" %.0f MB |\n\nRuns of 1 GB or more on inputs under 10 MB: %d\n",
+  std::printf(" %.0f MB |\n\nRuns of 1 GB or more on inputs under 10 MB (but MRPT's crashes): %d\n",
               double(max_all) / 1e6, over_1gb_small);
   if (!problems.empty()) {
     std::printf("\nNot clean:\n");
