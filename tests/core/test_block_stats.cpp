@@ -8,6 +8,7 @@
 #include <optional>
 #include <random>
 #include <set>
+#include <utility>
 
 #include "ndtom/map_io.h"
 #include "ndtom/ndt_map.h"
@@ -199,4 +200,10 @@ TEST(BlockStats, CellsGainAndLoseStatisticsInAnyOrder) {
   EXPECT_GT(refused, 5u);
   // No cell holds statistics with log-odds <= 0, so a hit (which raises it) never drops any.
   EXPECT_EQ(lost_to_hits, 0u);
+  // Copies count their own (tight) statistics arrays.
+  const NdtMap copy = map;
+  NdtMap assigned;
+  assigned = map;
+  for (const NdtMap* m : {&copy, &std::as_const(assigned)})
+    EXPECT_EQ(m->memoryBytes(), m->memoryBytesCounted());
 }

@@ -35,10 +35,14 @@ NdtMap::NdtMap(const NdtMap& other)
   stats_bytes_ = memoryBytesCounted() - grid_.memoryBytes();
 }
 
+// Member by member, keeping this map's scratch (and its worker threads), as before.
 NdtMap& NdtMap::operator=(const NdtMap& other) {
   if (this == &other) return *this;
-  NdtMap copy(other);
-  *this = std::move(copy);
+  options_ = other.options_;
+  geometry_ = other.geometry_;
+  grid_ = other.grid_;
+  num_cells_ = other.num_cells_;
+  stats_bytes_ = memoryBytesCounted() - grid_.memoryBytes();
   return *this;
 }
 
