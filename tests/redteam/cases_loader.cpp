@@ -263,12 +263,17 @@ std::vector<Case> silentValueCases(const Context& c) {
     f.cell({1, 2, 3}, logodds, s);
     return f.finish();
   };
+  auto text = [](double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  };
   std::vector<std::pair<std::string, std::vector<uint8_t>>> files;
   for (const double b : {0.5, 2.0, std::nan(""), -1.0, double(INFINITY), 1e-300})
-    files.push_back({"occupancy_enabled stored as " + std::to_string(b),
+    files.push_back({"occupancy_enabled stored as " + text(b),
                      oneCell(threePoints(), 1.f, "occupancy_enabled", b)});
   for (const double m : {0.5, 2.0})
-    files.push_back({"ray_mode " + std::to_string(m), oneCell({}, 1.f, "ray_mode", m)});
+    files.push_back({"ray_mode " + text(m), oneCell({}, 1.f, "ray_mode", m)});
   ndtom::CellStats s = threePoints();
   s.scatter(0, 1) = s.scatter(1, 0) = 2 * std::sqrt(s.scatter(0, 0) * s.scatter(1, 1));
   files.push_back({"scatter with |s01| > sqrt(s00 s11)", oneCell(s)});
