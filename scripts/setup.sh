@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
 # Installs the Debian packages this project needs, and only those that are missing.
-# Idempotent and silent when everything is present. Usage: scripts/setup.sh [--with-fuzz]
+# Idempotent and silent when everything is present.
+# Usage: scripts/setup.sh [--with-fuzz] [--with-pcl]
+#   --with-fuzz  clang and its runtime, for the libFuzzer targets (scripts/fuzz.sh)
+#   --with-pcl   PCL 1.13 (libpcl-dev), only for the PCL peers of ndtom-regbench; no library,
+#                test or CI step needs it
 set -euo pipefail
 
 packages=(
@@ -12,9 +16,13 @@ packages=(
   xvfb xauth
   libgl1-mesa-dri  # Mesa's software OpenGL, for ndtom-map's off-screen pictures (no GPU needed)
 )
-if [[ "${1:-}" == "--with-fuzz" ]]; then
-  packages+=(clang libclang-rt-14-dev)
-fi
+for option in "$@"; do
+  case "$option" in
+    --with-fuzz) packages+=(clang libclang-rt-14-dev) ;;
+    --with-pcl) packages+=(libpcl-dev) ;;
+    *) echo "setup: unknown option '$option' (use --with-fuzz, --with-pcl)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

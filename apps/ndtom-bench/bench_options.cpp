@@ -1,19 +1,16 @@
 #include "bench_options.h"
 
-#include "ndtom_apps/option_values.h"
+#include "ndtom_apps/command_line.h"
 
 namespace ndtom::bench {
 
 namespace {
 
-struct NamedSystem {
-  const char* name;
-  SystemKind kind;
-};
-constexpr NamedSystem kSystems[] = {{"ndtom-point", SystemKind::NdtomPerPoint},
-                                    {"ndtom-hitcell", SystemKind::NdtomPerHitCell},
-                                    {"octomap", SystemKind::Octomap},
-                                    {"mrpt-grid3d", SystemKind::MrptGrid3d}};
+constexpr apps::NamedValue<SystemKind> kSystems[] = {
+    {"ndtom-point", SystemKind::NdtomPerPoint},
+    {"ndtom-hitcell", SystemKind::NdtomPerHitCell},
+    {"octomap", SystemKind::Octomap},
+    {"mrpt-grid3d", SystemKind::MrptGrid3d}};
 
 int parseCount(const std::string& option, const std::string& text, int min) {
   return int(apps::parseInteger(option, text, min, 1000000));
@@ -31,35 +28,36 @@ std::vector<double> parseResolutions(const std::string& text) {
   return out;
 }
 
-std::vector<SystemKind> parseSystems(const std::string& text) {
-  std::vector<SystemKind> out;
-  for (const std::string& item : apps::splitList(text)) {
-    bool found = false;
-    for (const NamedSystem& s : kSystems)
-      if (item == s.name) {
-        out.push_back(s.kind);
-        found = true;
-      }
-    if (!found) throw apps::UsageError("--systems: unknown system '" + item + "' (see --help)");
+void setOption(BenchOptions& o, const std::string& name, const std::string& value) {
+  if (name == "--dataset") {
+    o.datasets.push_back(value);
+  } else if (name == "--scans") {
+    o.max_scans = parseCount(name, value, 1);
+  } else if (name == "--resolutions") {
+    o.resolutions = parseResolutions(value);
+  } else if (name == "--systems") {
+    o.systems = apps::parseNamedList(name, value, kSystems);
+  } else if (name == "--threads") {
+    const std::vector<int64_t> threads = apps::parseIntegerList(name, value, 1, 1000000);
+    o.threads.assign(threads.begin(), threads.end());
+  } else if (name == "--max-range") {
+    o.max_range = apps::parseReal(name, value);
+    if (!(o.max_range > 0)) throw apps::UsageError("--max-range: must be > 0 m");
+  } else if (name == "--repeats") {
+    o.repeats = parseCount(name, value, 1);
+  } else if (name == "--csv") {
+    o.csv_path = value;
+  } else if (name == "--plot") {
+    o.plot_prefix = value;
+  } else {
+    throw apps::unknownOption(name);
   }
-  if (out.empty()) throw apps::UsageError("--systems: empty list");
-  return out;
-}
-
-std::vector<int> parseThreads(const std::string& text) {
-  std::vector<int> out;
-  for (const std::string& item : apps::splitList(text))
-    out.push_back(parseCount("--threads", item, 1));
-  if (out.empty()) throw apps::UsageError("--threads: empty list");
-  return out;
 }
 
 }  // namespace
 
 const char* systemName(SystemKind kind) {
-  for (const NamedSystem& s : kSystems)
-    if (s.kind == kind) return s.name;
-  return "?";
+  return apps::nameOf(kind, kSystems);
 }
 
 bool isNdtom(SystemKind kind) {
@@ -68,41 +66,10 @@ bool isNdtom(SystemKind kind) {
 
 BenchOptions parseArguments(int argc, const char* const argv[]) {
   BenchOptions o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      o.help = true;
-      continue;
-    }
-    if (arg == "--quiet") {
-      o.quiet = true;
-      continue;
-    }
-    if (i + 1 >= argc) throw apps::UsageError(arg + ": missing value (see --help)");
-    const std::string value = argv[++i];
-    if (arg == "--dataset") {
-      o.datasets.push_back(value);
-    } else if (arg == "--scans") {
-      o.max_scans = parseCount(arg, value, 1);
-    } else if (arg == "--resolutions") {
-      o.resolutions = parseResolutions(value);
-    } else if (arg == "--systems") {
-      o.systems = parseSystems(value);
-    } else if (arg == "--threads") {
-      o.threads = parseThreads(value);
-    } else if (arg == "--max-range") {
-      o.max_range = apps::parseReal(arg, value);
-      if (!(o.max_range > 0)) throw apps::UsageError("--max-range: must be > 0 m");
-    } else if (arg == "--repeats") {
-      o.repeats = parseCount(arg, value, 1);
-    } else if (arg == "--csv") {
-      o.csv_path = value;
-    } else if (arg == "--plot") {
-      o.plot_prefix = value;
-    } else {
-      throw apps::UsageError("unknown option '" + arg + "' (see --help)");
-    }
-  }
+  apps::forEachArgument(
+      argc, argv, {"--help", "-h", "--quiet"},
+      [&](const std::string& flag) { (flag == "--quiet" ? o.quiet : o.help) = true; },
+      [&](const std::string& name, const std::string& value) { setOption(o, name, value); });
   if (!o.help && o.datasets.empty()) throw apps::UsageError("no --dataset given (see --help)");
   return o;
 }

@@ -3,21 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
+#include "ndtom_apps/statistics.h"
 
 namespace ndtom::bench {
-
-namespace {
-
-double processCpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-}  // namespace
 
 RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats,
                     apps::Progress& progress) {
@@ -38,11 +29,11 @@ RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats,
     for (size_t i = 0; i < scans; ++i) {
       const Scan& scan = set.scans[i];
       system.prepareScan(scan);
-      const double cpu_start = processCpuSeconds();
+      const double cpu_start = apps::processCpuSeconds();
       const auto start = Clock::now();
       system.insertScan(scan);
       const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-      r.scan_cpu_seconds.push_back(processCpuSeconds() - cpu_start);
+      r.scan_cpu_seconds.push_back(apps::processCpuSeconds() - cpu_start);
       times.push_back(seconds);
       if (rep == 0) {
         r.points += scan.points.size();
@@ -54,7 +45,7 @@ RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats,
     }
     const size_t peak = apps::peakRssBytes();
     r.peak_rss_delta = std::max(r.peak_rss_delta, peak > rss_before ? peak - rss_before : 0);
-    r.repeat_median_seconds.push_back(quantile(times, 0.5));
+    r.repeat_median_seconds.push_back(apps::quantile(times, 0.5));
     r.scan_seconds.insert(r.scan_seconds.end(), times.begin(), times.end());
   }
   r.map = system.mapSize();

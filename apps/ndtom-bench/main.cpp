@@ -10,8 +10,8 @@
 
 #include "bench_options.h"
 #include "bench_runner.h"
-#include "machine_info.h"
 #include "map_comparison.h"
+#include "ndtom_apps/machine_info.h"
 #include "mrpt_grid_system.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_system.h"
@@ -153,8 +153,8 @@ ScanSet loadDataset(const std::string& name, int max_scans) {
 
 void printReport(const BenchOptions& o, const std::vector<ScanSet>& sets,
                  const std::vector<RunResult>& runs) {
-  std::cout << "## ndtom-bench results\n\nCPU: " << cpuDescription()
-            << "\nBuild: " << buildDescription() << "\nMax range: " << o.max_range
+  std::cout << "## ndtom-bench results\n\nCPU: " << apps::cpuDescription()
+            << "\nBuild: " << apps::buildDescription() << "\nMax range: " << o.max_range
             << " m, repeats: " << o.repeats << ", insertion only (timed per scan)\n";
   for (const ScanSet& s : sets) {
     const Box box = rayBounds(s, o.max_range);

@@ -1,28 +1,19 @@
 #include "run_result.h"
 
-#include <algorithm>
-#include <cmath>
 #include <numeric>
+
+#include "ndtom_apps/statistics.h"
 
 namespace ndtom::bench {
 
-double quantile(std::vector<double> samples, double q) {
-  if (samples.empty()) return 0;
-  std::sort(samples.begin(), samples.end());
-  const double pos = q * double(samples.size() - 1);
-  const size_t i = size_t(std::floor(pos));
-  if (i + 1 >= samples.size()) return samples.back();
-  return samples[i] + (pos - double(i)) * (samples[i + 1] - samples[i]);
-}
-
 double RunResult::medianSeconds() const {
-  return quantile(scan_seconds, 0.5);
+  return apps::quantile(scan_seconds, 0.5);
 }
 double RunResult::medianCpuSeconds() const {
-  return quantile(scan_cpu_seconds, 0.5);
+  return apps::quantile(scan_cpu_seconds, 0.5);
 }
 double RunResult::p95Seconds() const {
-  return quantile(scan_seconds, 0.95);
+  return apps::quantile(scan_seconds, 0.95);
 }
 
 double RunResult::totalSeconds() const {

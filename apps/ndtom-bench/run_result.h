@@ -49,9 +49,6 @@ struct RunResult {
   double bytesPerCell() const;
 };
 
-/// q-quantile (0..1) by linear interpolation between order statistics; 0 for no samples.
-double quantile(std::vector<double> samples, double q);
-
 /// The run of `label` on `dataset` at `resolution`, or nullptr.
 const RunResult* findRun(const std::vector<RunResult>& runs, const std::string& dataset,
                          double resolution, const std::string& label);

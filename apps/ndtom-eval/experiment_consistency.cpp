@@ -1,7 +1,7 @@
 // Paper Sec. IV-A: Fig. 1 (consistency with the batch map) and Fig. 2 (representation
 // self-test) for Error Refinement, Recursive NDT and NDT-OM.
 #include "experiments.h"
-#include "line_plot.h"
+#include "method_colors.h"
 #include "ndtom/batch_ndt.h"
 #include "ndtom/error_refinement.h"
 #include "ndtom_apps/progress.h"

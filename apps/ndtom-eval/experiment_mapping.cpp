@@ -6,7 +6,7 @@
 #include <map>
 
 #include "experiments.h"
-#include "line_plot.h"
+#include "method_colors.h"
 #include "ndtom_apps/progress.h"
 #include "top_view.h"
 

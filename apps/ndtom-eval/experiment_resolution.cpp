@@ -1,7 +1,7 @@
 // Map quality against resolution: each map's similarity to the batch map of the same points,
 // its memory (NdtMap::memoryBytes) and its insertion time per scan (ER: similarity only).
 #include "experiments.h"
-#include "line_plot.h"
+#include "method_colors.h"
 #include "ndtom/batch_ndt.h"
 #include "ndtom/error_refinement.h"
 #include "ndtom_apps/progress.h"

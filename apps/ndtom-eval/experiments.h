@@ -7,12 +7,15 @@
 #include <vector>
 
 #include "clouds.h"
-#include "csv_table.h"
 #include "eval_options.h"
 #include "ndtom/map_similarity.h"
 #include "ndtom/ndt_map.h"
+#include "ndtom_apps/csv_table.h"
 
 namespace ndtom::eval {
+
+using apps::CsvCell;
+using apps::CsvTable;
 
 /// Headline numbers of a run: printed at the end and written to summary.csv.
 class Summary {

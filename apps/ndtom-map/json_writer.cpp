@@ -24,7 +24,7 @@ std::string jsonQuote(const std::string& text) {
 }
 
 JsonWriter::JsonWriter() {
-  out_.precision(10);
+  out_.precision(16);  // 16 significant digits: time stamps since 1970 to the microsecond
 }
 
 void JsonWriter::key(const std::string& k) {

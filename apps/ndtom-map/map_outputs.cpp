@@ -5,24 +5,15 @@
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "height_colors.h"
 #include "ndtom/map_io.h"
 #include "ndtom_apps/run_program.h"
 #include "oblique_view.h"
+#include "png_bytes.h"
 #include "top_view.h"
 
 namespace ndtom::mapper {
 namespace {
-
-std::string pngBytes(const cv::Mat& image) {
-  std::vector<uint8_t> png;
-  // Full compression: a few tenths of a second for pictures a third smaller.
-  if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 9}))
-    throw std::runtime_error("cannot encode a PNG picture");
-  return std::string(png.begin(), png.end());
-}
 
 // An MRPT output stream over a file sink, so that the archive goes through the same synced,
 // error-naming writes as the other outputs.

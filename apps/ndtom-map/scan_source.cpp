@@ -22,4 +22,13 @@ std::unique_ptr<ScanSource> openScanSource(const SourceSettings& settings) {
   throw apps::UsageError(s.input + ": unknown input format");
 }
 
+std::vector<Eigen::Vector3d> pointsInFrame(const Scan& scan) {
+  if (scan.pose_kind == Scan::PoseKind::None) return scan.points_world;
+  const Eigen::Isometry3d world_to_frame = scan.frame_pose.inverse();
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(scan.points_world.size());
+  for (const Eigen::Vector3d& p : scan.points_world) out.push_back(world_to_frame * p);
+  return out;
+}
+
 }  // namespace ndtom::mapper

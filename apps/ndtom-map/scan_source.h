@@ -2,7 +2,7 @@
 // scans in order, each as world-frame points seen from a sensor origin.
 #pragma once
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -26,6 +26,14 @@ class InputError : public std::runtime_error {
 struct Scan {
   std::vector<Eigen::Vector3d> points_world;                ///< (m)
   Eigen::Vector3d sensor_origin = Eigen::Vector3d::Zero();  ///< (m)
+  /// The frame the points were measured in, in the world: the sensor's (PCD, TUM) or the
+  /// robot's (rawlog, simplemap: the sensor's pose on the robot already applied). Identity
+  /// where the input gives none (SourceSettings::poses_optional).
+  Eigen::Isometry3d frame_pose = Eigen::Isometry3d::Identity();
+  /// Where frame_pose comes from: a trajectory given as such (PCD poses, TUM ground truth,
+  /// simplemap keyframes, --poses), the log's odometry (it drifts), or nothing.
+  enum class PoseKind { Reference, Odometry, None };
+  PoseKind pose_kind = PoseKind::Reference;
   double time = 0;   ///< seconds (the scan's index where the input has no time)
   std::string name;  ///< for messages: a file name or "observation 12"
 };
@@ -69,7 +77,14 @@ struct SourceSettings {
   /// Points a scan may have (what the memory budget holds): readers refuse larger scans
   /// before allocating them (Default: no limit).
   uint64_t max_scan_points = UINT64_MAX;
+  /// Scans without a pose are yielded in their own frame instead of being refused or
+  /// skipped (localization estimates the poses): a PCD folder without poses.txt, rawlog
+  /// scans without odometry.
+  bool poses_optional = false;
 };
+
+/// The scan's points in its own frame (Scan::frame_pose).
+std::vector<Eigen::Vector3d> pointsInFrame(const Scan& scan);
 
 /// Opens the input (detecting its format if Auto) and checks it can be read completely:
 /// files exist, poses match the scans. Throws apps::UsageError or InputError.

@@ -1,7 +1,9 @@
 // A folder of PCD scans (points in the sensor frame) with one pose per scan, KITTI's
 // convention (poses.txt: line i is [R|t] of the i-th scan, sensor -> world) or a TUM
-// trajectory taken line by line.
+// trajectory taken line by line. Where poses are optional (localization), a folder without
+// them yields the scans in their own frame, timed by times.txt (one time per line) if present.
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "input_format.h"
@@ -26,6 +28,30 @@ std::vector<std::string> pcdFilesInNaturalOrder(const std::string& folder) {
   return names;
 }
 
+// One time stamp per scan from `path`, or the scan indices where the file does not exist.
+std::vector<double> readTimes(const std::string& path, size_t scans) {
+  std::vector<double> times;
+  if (!fs::exists(path)) {
+    for (size_t i = 0; i < scans; ++i) times.push_back(double(i));
+    return times;
+  }
+  std::ifstream in(path);
+  std::string line;
+  for (size_t number = 1; std::getline(in, line); ++number) {
+    line = apps::trim(line);
+    if (line.empty() || line[0] == '#') continue;
+    try {
+      times.push_back(apps::parseReal(path, line));
+    } catch (const std::exception&) {
+      throw InputError(path + ":" + std::to_string(number) + ": not a time stamp: '" + line + "'");
+    }
+  }
+  if (times.size() != scans)
+    throw InputError(path + ": " + std::to_string(times.size()) + " time stamps for " +
+                     std::to_string(scans) + " .pcd files (line i is the time of the i-th scan)");
+  return times;
+}
+
 class PcdFolderSource : public ScanSource {
  public:
   explicit PcdFolderSource(const SourceSettings& s)
@@ -39,17 +65,22 @@ class PcdFolderSource : public ScanSource {
     if (files_.empty()) throw InputError(folder_ + ": no .pcd files");
     if (!s.poses_file.empty()) requireRegularFile("--poses", s.poses_file);
     poses_path_ = s.poses_file.empty() ? (fs::path(folder_) / "poses.txt").string() : s.poses_file;
-    if (!fs::exists(poses_path_))
-      throw InputError(poses_path_ + ": no pose file (give the scans' poses with --poses FILE)");
-    try {
-      poses_ = ndtom::io::readPoseFile(poses_path_, s.pose_format);
-    } catch (const std::exception& e) {
-      throw InputError(e.what());
+    if (!fs::exists(poses_path_)) {
+      if (!s.poses_optional || !s.poses_file.empty())
+        throw InputError(poses_path_ + ": no pose file (give the scans' poses with --poses FILE)");
+      poses_path_.clear();
+      times_ = readTimes((fs::path(folder_) / "times.txt").string(), files_.size());
+    } else {
+      try {
+        poses_ = ndtom::io::readPoseFile(poses_path_, s.pose_format);
+      } catch (const std::exception& e) {
+        throw InputError(e.what());
+      }
+      if (poses_.size() != files_.size())
+        throw InputError(poses_path_ + ": " + std::to_string(poses_.size()) + " poses for " +
+                         std::to_string(files_.size()) + " .pcd files in " + folder_ +
+                         " (line i is the pose of the i-th scan)");
     }
-    if (poses_.size() != files_.size())
-      throw InputError(poses_path_ + ": " + std::to_string(poses_.size()) + " poses for " +
-                       std::to_string(files_.size()) + " .pcd files in " + folder_ +
-                       " (line i is the pose of the i-th scan)");
     size_ = limitScans(files_.size(), s.max_scans);
   }
 
@@ -62,10 +93,14 @@ class PcdFolderSource : public ScanSource {
     } catch (const std::exception& e) {
       throw InputError(e.what());
     }
-    const Eigen::Isometry3d& sensor_to_world = poses_[index_].pose;
+    const bool has_pose = !poses_.empty();
+    const Eigen::Isometry3d sensor_to_world =
+        has_pose ? poses_[index_].pose : Eigen::Isometry3d::Identity();
     Scan scan;
     scan.name = files_[index_];
-    scan.time = poses_[index_].time;
+    scan.time = has_pose ? poses_[index_].time : times_[index_];
+    scan.frame_pose = sensor_to_world;
+    scan.pose_kind = has_pose ? Scan::PoseKind::Reference : Scan::PoseKind::None;
     scan.sensor_origin = sensor_to_world * cloud.viewpoint.translation();
     // In place: a second copy of a large cloud would double the reader's memory.
     const size_t read = cloud.points.size();
@@ -81,7 +116,8 @@ class PcdFolderSource : public ScanSource {
 
   std::string description() const override {
     std::ostringstream s;
-    s << "PCD folder " << folder_ << ": " << files_.size() << " scans, poses from " << poses_path_;
+    s << "PCD folder " << folder_ << ": " << files_.size() << " scans, "
+      << (poses_path_.empty() ? std::string("no poses") : "poses from " + poses_path_);
     return s.str();
   }
 
@@ -90,7 +126,8 @@ class PcdFolderSource : public ScanSource {
   uint32_t decimation_;
   uint64_t max_file_points_;
   std::vector<std::string> files_;
-  std::vector<ndtom::io::StampedPose> poses_;
+  std::vector<ndtom::io::StampedPose> poses_;  ///< empty: no poses
+  std::vector<double> times_;                  ///< used without poses
   size_t index_ = 0;
 };
 

@@ -22,7 +22,9 @@ mrpt::poses::CPose3D toCPose3D(const Eigen::Isometry3d& pose) {
 class RawlogSource : public ScanSource {
  public:
   explicit RawlogSource(const SourceSettings& s)
-      : path_(s.input), extraction_{s.decimation, s.decimation_3d_range} {
+      : path_(s.input),
+        extraction_{s.decimation, s.decimation_3d_range},
+        poses_optional_(s.poses_optional) {
     if (std::filesystem::is_directory(path_))
       throw apps::UsageError(path_ + ": a folder, not a rawlog");
     if (!s.poses_file.empty()) {
@@ -40,12 +42,16 @@ class RawlogSource : public ScanSource {
       const size_t index = observation_index_++;
       const auto pose = trajectory_ ? std::optional(trajectory_->poseFor(index, entry->time))
                                     : entry->odometry_pose;
-      if (!pose) {
+      if (!pose && !poses_optional_) {
         ++skips_.scans_without_pose;
         continue;
       }
       ++yielded_;
-      return toScan(*entry, toCPose3D(*pose), index);
+      Scan scan = toScan(*entry, pose ? toCPose3D(*pose) : mrpt::poses::CPose3D(), index);
+      scan.pose_kind = !pose         ? Scan::PoseKind::None
+                       : trajectory_ ? Scan::PoseKind::Reference
+                                     : Scan::PoseKind::Odometry;
+      return scan;
     }
     return std::nullopt;
   }
@@ -77,6 +83,8 @@ class RawlogSource : public ScanSource {
     if (trajectory_) {
       trajectory_->checkCovers(times, path_);
       size_ = limitScans(times.size(), max_scans);
+    } else if (poses_optional_) {
+      size_ = limitScans(times.size(), max_scans);
     } else {
       if (with_odometry == 0)
         throw InputError(path_ +
@@ -89,6 +97,7 @@ class RawlogSource : public ScanSource {
   Scan toScan(const RawlogObservation& entry, const mrpt::poses::CPose3D& pose, size_t index) {
     Scan scan;
     scan.time = entry.time;
+    scan.frame_pose = mrpt_ndtom::toIsometry(pose);
     scan.name = "observation " + std::to_string(index) + " (" +
                 entry.observation->GetRuntimeClass()->className + ")";
     try {
@@ -103,6 +112,7 @@ class RawlogSource : public ScanSource {
 
   std::string path_;
   mrpt_ndtom::TPointExtractionOptions extraction_;
+  bool poses_optional_;
   std::optional<TrajectoryPoses> trajectory_;
   std::unique_ptr<RawlogReader> reader_;
   size_t observations_ = 0, observation_index_ = 0, yielded_ = 0;

@@ -67,6 +67,7 @@ class SimplemapSource : public ScanSource {
     scan.name =
         "keyframe " + std::to_string(keyframe) + " (" + obs->GetRuntimeClass()->className + ")";
     scan.time = mrpt::Clock::toDouble(obs->timestamp);
+    scan.frame_pose = mrpt_ndtom::toIsometry(pose_pdf->getMeanVal());
     try {
       auto points = mrpt_ndtom::observationPoints(*obs, pose_pdf->getMeanVal(), extraction_);
       scan.points_world = std::move(points->points_world);

@@ -49,6 +49,7 @@ class TumSource : public ScanSource {
     scan.name = frame.depth_path;
     scan.time = frame.time;
     scan.sensor_origin = frame.camera_to_world.translation();
+    scan.frame_pose = frame.camera_to_world;
     for (auto& p : points) p = frame.camera_to_world * p;  // in place: one copy of the cloud
     scan.points_world = std::move(points);
     return scan;

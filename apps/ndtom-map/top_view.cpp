@@ -133,15 +133,31 @@ size_t drawGaussians(const ndtom::NdtMap& map, const Frame& f, const HeightScale
   return gaussians.size();
 }
 
-void drawPath(const std::vector<Eigen::Vector3d>& path, const Frame& f, cv::Mat& view) {
-  if (path.empty()) return;
+std::vector<cv::Point> pixelsOf(const std::vector<Eigen::Vector3d>& path, const Frame& f) {
   std::vector<cv::Point> pixels;
   for (const auto& p : path) {
     const cv::Point2d q = f.toPixel(p.x(), p.y());
     pixels.emplace_back(int(std::lround(q.x)), int(std::lround(q.y)));
   }
-  cv::polylines(view, pixels, false, cv::Scalar(0, 0, 0), 2, cv::LINE_AA);
-  cv::circle(view, pixels.front(), 6, cv::Scalar(0, 0, 0), cv::FILLED, cv::LINE_AA);
+  return pixels;
+}
+
+// The path, each segment in the colour of its end (black if none given), its start as `o`.
+void drawPath(const std::vector<Eigen::Vector3d>& path, const std::vector<cv::Scalar>& colours,
+              const Frame& f, cv::Mat& view) {
+  if (path.empty()) return;
+  const std::vector<cv::Point> pixels = pixelsOf(path, f);
+  const cv::Scalar black(0, 0, 0);
+  if (colours.empty()) {
+    cv::polylines(view, pixels, false, black, 2, cv::LINE_AA);
+  } else {
+    for (size_t i = 0; i < pixels.size(); ++i) {
+      const cv::Point& from = pixels[i == 0 ? 0 : i - 1];
+      cv::line(view, from, pixels[i], colours[i], 3, cv::LINE_AA);
+      cv::circle(view, pixels[i], 3, colours[i], cv::FILLED, cv::LINE_AA);
+    }
+  }
+  cv::circle(view, pixels.front(), 6, black, cv::FILLED, cv::LINE_AA);
   cv::circle(view, pixels.front(), 3, cv::Scalar(255, 255, 255), cv::FILLED, cv::LINE_AA);
 }
 
@@ -149,18 +165,29 @@ void drawPath(const std::vector<Eigen::Vector3d>& path, const Frame& f, cv::Mat&
 
 cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale,
                       const std::vector<Eigen::Vector3d>& sensor_path, int width) {
-  const Frame f = frameFor(map, sensor_path, viewWidth(width));
+  return renderTopView(map, scale, ColouredPath{sensor_path, {}, {}, "black: sensor path from o"},
+                       width);
+}
+
+cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale, const ColouredPath& path,
+                      int width) {
+  std::vector<Eigen::Vector3d> extent = path.points;
+  extent.insert(extent.end(), path.reference.begin(), path.reference.end());
+  const Frame f = frameFor(map, extent, viewWidth(width));
   cv::Mat view(f.height, f.width, CV_8UC3);
   drawColumns(map, f, scale, view);
   const size_t drawn = drawGaussians(map, f, scale, view);
-  drawPath(sensor_path, f, view);
+  if (!path.reference.empty())
+    cv::polylines(view, pixelsOf(path.reference, f), false, cv::Scalar(110, 110, 110), 1,
+                  cv::LINE_AA);
+  drawPath(path.points, path.colours, f, view);
   drawScaleBar(view, f.pixels_per_metre);
   char title[160];
   std::snprintf(title, sizeof title, "NDT-OM, top view: %zu occupied Gaussians, %g m cells", drawn,
                 map.options().resolution);
   return composePicture(view, title,
                         "1-sigma ellipses by height, on the colour of the highest one in their "
-                        "column; white: free; grey: unknown; black: sensor path from o",
+                        "column; white: free; grey: unknown; " + path.legend,
                         scale);
 }
 

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "height_colors.h"
@@ -16,5 +17,15 @@ namespace ndtom::mapper {
 /// 1.2 times as high; narrower for maps longer in y than in x.
 cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale,
                       const std::vector<Eigen::Vector3d>& sensor_path, int width);
+
+/// A path drawn in colours of its own, e.g. by localization error.
+struct ColouredPath {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<cv::Scalar> colours;        ///< of the segment ending at each point (BGR)
+  std::vector<Eigen::Vector3d> reference;  ///< drawn thin and grey beneath, if any
+  std::string legend;                      ///< what the colours mean, for the caption
+};
+cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale, const ColouredPath& path,
+                      int width);
 
 }  // namespace ndtom::mapper

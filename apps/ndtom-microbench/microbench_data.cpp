@@ -16,7 +16,7 @@ const std::vector<WorldScan>& realScans(size_t count) {
   const auto poses = io::readPoseFile(dir + "/poses.txt", io::PoseFormat::Kitti);
   for (size_t i = scans.size(); i < count && i < poses.size(); ++i) {
     const io::PointCloud cloud = io::readPcd(dir + "/full" + std::to_string(i) + ".pcd");
-    WorldScan scan{poses[i].pose.translation(), {}};
+    WorldScan scan{poses[i].pose.translation(), {}, poses[i].pose};
     for (const Eigen::Vector3d& p : cloud.points)
       if (p.allFinite() && !p.isZero(0.0)) scan.points.push_back(poses[i].pose * p);
     scans.push_back(std::move(scan));

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <vector>
 
 #include "ndtom/ndt_map.h"
@@ -11,7 +12,8 @@ namespace ndtom::microbench {
 
 struct WorldScan {
   Eigen::Vector3d origin;
-  std::vector<Eigen::Vector3d> points;  ///< world frame
+  std::vector<Eigen::Vector3d> points;                     ///< world frame
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor -> world
 };
 
 /// Scans 0 .. count-1, loaded once and cached. Throws std::runtime_error on bad data.

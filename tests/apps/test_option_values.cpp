@@ -3,26 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <functional>
 #include <string>
 
 #include "ndtom_apps/option_values.h"
+#include "support/usage_message.h"
 
 using namespace ndtom::apps;
-
-namespace {
-
-// The message of the UsageError `f` throws; "" if it throws none.
-std::string usageMessage(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const UsageError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-}  // namespace
+using ndtom::testing::usageMessage;
 
 TEST(ParseReal, AcceptsWholeNumbers) {
   EXPECT_EQ(parseReal("--x", "0.25"), 0.25);
@@ -89,4 +76,13 @@ TEST(Trim, RemovesBlanksAtBothEnds) {
   EXPECT_EQ(trim("a b"), "a b");
   EXPECT_EQ(trim(" \t "), "");
   EXPECT_EQ(trim(""), "");
+}
+
+TEST(ParseIntegerList, IntegersInRangeOnceEach) {
+  EXPECT_EQ(parseIntegerList("--t", "1,2,8", 1, 8), (std::vector<int64_t>{1, 2, 8}));
+  EXPECT_EQ(usageMessage([] { parseIntegerList("--t", "1,9", 1, 8); }),
+            "--t = 9: must be in [1, 8]");
+  EXPECT_EQ(usageMessage([] { parseIntegerList("--t", "2,2", 1, 8); }), "--t: 2 is listed twice");
+  EXPECT_EQ(usageMessage([] { parseIntegerList("--t", "", 1, 8); }), "--t: empty list");
+  EXPECT_EQ(usageMessage([] { parseIntegerList("--t", "1,x", 1, 8); }), "--t: not an integer: 'x'");
 }

@@ -1,17 +1,20 @@
 // ndtom-eval end to end on the data shipped in the repository (3 TUM frames at decimation 4,
 // 3 lidar scans): exit codes, the CSV columns, and values that must hold on any data.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "support/program_run.h"
+
 namespace fs = std::filesystem;
+using ndtom::testing::Csv;
+using ndtom::testing::ProgramRun;
+using ndtom::testing::readCsv;
+using ndtom::testing::runProgram;
 
 namespace {
 
@@ -19,56 +22,8 @@ const std::string kExe = NDTOM_EVAL_EXE;
 const std::string kTum = std::string(NDTOM_SOURCE_DIR) + "/share/data/tum-fr2-pioneer-slam2";
 const std::string kLidar = std::string(NDTOM_TEST_DATA_DIR) + "/balm-realworld";
 
-struct ProgramRun {
-  int exit_code = -1;
-  std::string stdout_text, stderr_text;
-};
-
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 ProgramRun runEval(const std::string& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string command =
-      "'" + kExe + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "' </dev/null";
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readFile(out), readFile(err)};
-}
-
-using Row = std::map<std::string, std::string>;
-struct Csv {
-  std::vector<std::string> columns;
-  std::vector<Row> rows;
-  double number(size_t row, const std::string& column) const {
-    return std::stod(rows.at(row).at(column));
-  }
-};
-
-Csv readCsv(const fs::path& path) {
-  std::ifstream in(path);
-  EXPECT_TRUE(in.good()) << "missing " << path;
-  Csv csv;
-  std::string line;
-  auto split = [](const std::string& text) {
-    std::vector<std::string> fields;
-    std::stringstream s(text);
-    for (std::string f; std::getline(s, f, ',');) fields.push_back(f);
-    return fields;
-  };
-  if (std::getline(in, line)) csv.columns = split(line);
-  while (std::getline(in, line)) {
-    const auto fields = split(line);
-    EXPECT_EQ(fields.size(), csv.columns.size()) << path << ": " << line;
-    Row row;
-    for (size_t i = 0; i < fields.size() && i < csv.columns.size(); ++i)
-      row[csv.columns[i]] = fields[i];
-    csv.rows.push_back(row);
-  }
-  return csv;
+  return runProgram(kExe, args, dir);
 }
 
 fs::path g_out;  // output folder of the run under test

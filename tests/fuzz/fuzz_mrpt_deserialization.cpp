@@ -52,6 +52,11 @@ void exercise(CNDTOccupancyMap& map) {
     scan.setScanRangeValidity(i, true);
   }
   map.computeObservationLikelihood(scan, mrpt::poses::CPose3D());
+  // And with the other likelihood method, which builds other structures from the map.
+  using Method = CNDTOccupancyMap::TLikelihoodMethod;
+  map.likelihoodOptions.likelihood_method =
+      map.likelihoodOptions.likelihood_method == Method::Points ? Method::NdtMcl : Method::Points;
+  map.computeObservationLikelihood(scan, mrpt::poses::CPose3D());
   mrpt::opengl::CSetOfObjects drawing;
   map.getVisualizationInto(drawing);
   map.insertPoints({{1.0, 0.2, 0.3}, {0.0, 0.0, 0.0}, {-2.5, 1.0, 0.1}}, {0.1, 0.1, 0.1});

@@ -4,7 +4,8 @@
 // normal build: cmake --build <dir> --target make_mrpt_seeds && <dir>/tests/fuzz/make_mrpt_seeds
 // tests/data/balm-realworld tests/fuzz/corpus/fuzz_mrpt_deserialization
 // The corpus's v0_* seeds were written by an earlier version (insertion options without
-// threads); this program does not rewrite them.
+// threads), its likelihood_v0_* seeds by another (likelihood options without the method);
+// this program does not rewrite them.
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -85,6 +86,10 @@ int main(int argc, char** argv) {
   recursive.insertionOptions.threads = 2;
   recursive.likelihoodOptions.search_neighbours = false;
   recursive.likelihoodOptions.decimation = 3;
+  recursive.likelihoodOptions.likelihood_method = CNDTOccupancyMap::TLikelihoodMethod::NdtMcl;
+  recursive.likelihoodOptions.ndt_mcl_scan_factor = 2;
+  recursive.likelihoodOptions.ndt_mcl_map_factor = 2;
+  recursive.likelihoodOptions.ndt_mcl_max_gaussians = 120;
   recursive.renderOptions.show_free_cells = true;
   recursive.renderOptions.colormap = mrpt::img::cmHOT;
   recursive.genericMapParams.enableSaveAs3DObject = false;
@@ -124,5 +129,10 @@ int main(int argc, char** argv) {
   damaged = good;
   std::memset(damaged.data() + options_at + 86, 0, 4);  // threads, the last field: 1 -> 0
   write(out + "damaged_threads", damaged);
+  // The likelihood options follow the insertion options (90 bytes): version byte, 41 bytes of
+  // version 0 fields, then the method.
+  damaged = good;
+  damaged[options_at + 90 + 42] = 9;  // no such method
+  write(out + "damaged_likelihood_method", damaged);
   return 0;
 }

@@ -58,16 +58,22 @@ inline std::string quoted(const std::string& s) {
   return "'" + s + "'";
 }
 
-/// Runs `ndtom-map ARGS` (arguments already quoted as needed) with output files in `dir`.
-inline ProgramRun runMapper(const std::string& args, const TempDir& dir) {
+/// Runs `program ARGS` (arguments already quoted as needed) with output files in `dir`.
+inline ProgramRun runExecutable(const std::string& program, const std::string& args,
+                                const TempDir& dir) {
   const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string command = quoted(kMapper) + " " + args + " >" + quoted(out.string()) + " 2>" +
+  const std::string command = quoted(program) + " " + args + " >" + quoted(out.string()) + " 2>" +
                               quoted(err.string()) + " </dev/null";
   const int status = std::system(command.c_str());
   ProgramRun run{WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(out), readText(err)};
   fs::remove(out);
   fs::remove(err);
   return run;
+}
+
+/// Runs `ndtom-map ARGS`.
+inline ProgramRun runMapper(const std::string& args, const TempDir& dir) {
+  return runExecutable(kMapper, args, dir);
 }
 
 /// The number after the first `"key":` in `json` at or after `anchor`; NaN if absent.

@@ -48,6 +48,10 @@ search_neighbours   = false
 min_range           = 0.5
 max_range           = 12.5
 scale               = 0.25
+likelihood_method   = NdtMcl
+ndt_mcl_scan_factor = 4
+ndt_mcl_map_factor = 2
+ndt_mcl_max_gaussians = 450
 )ini";
 
 mrpt::maps::CMultiMetricMap multiMapFrom(const std::string& text, const std::string& section) {
@@ -106,6 +110,10 @@ TEST(IniOptions, ShortNameCreatesTheMapWithTheTextsOptions) {
   EXPECT_EQ(lk.min_range, 0.5);
   EXPECT_EQ(lk.max_range, 12.5);
   EXPECT_EQ(lk.scale, 0.25);
+  EXPECT_EQ(lk.likelihood_method, CNDTOccupancyMap::TLikelihoodMethod::NdtMcl);
+  EXPECT_EQ(lk.ndt_mcl_scan_factor, 4);
+  EXPECT_EQ(lk.ndt_mcl_map_factor, 2);
+  EXPECT_EQ(lk.ndt_mcl_max_gaussians, 450);
 
   EXPECT_FALSE(map->genericMapParams.enableSaveAs3DObject);
   // The core map already runs with these options.
@@ -166,8 +174,12 @@ TEST(IniOptions, DumpListsEveryOptionWithAComment) {
         "min_range", "max_range", "ray_mode", "decimation", "decimation_3d_range",
         "min_eigen_ratio", "min_eigen_abs", "threads", "memory_budget"})
     EXPECT_NE(ins.str().find(key), std::string::npos) << key;
-  for (const char* key : {"decimation", "outlier_likelihood", "search_neighbours", "scale"})
+  for (const char* key :
+       {"likelihood_method", "decimation", "decimation_3d_range", "outlier_likelihood",
+        "search_neighbours", "min_range", "max_range", "scale", "ndt_mcl_scan_factor",
+        "ndt_mcl_map_factor", "ndt_mcl_max_gaussians"})
     EXPECT_NE(lik.str().find(key), std::string::npos) << key;
+  EXPECT_NE(lik.str().find("Points"), std::string::npos) << "enum written by name";
   EXPECT_NE(ins.str().find("PerPoint"), std::string::npos) << "enum written by name";
   EXPECT_NE(ins.str().find("// Cell edge [m]"), std::string::npos) << ins.str();
   EXPECT_NE(ins.str().find("// Threads inserting a scan"), std::string::npos) << ins.str();
@@ -176,6 +188,20 @@ TEST(IniOptions, DumpListsEveryOptionWithAComment) {
 TEST(IniOptions, RayModeByNumberToo) {
   EXPECT_EQ(loadInsertion("ray_mode = 1").ray_mode, ndtom::RayMode::PerHitCell);
   EXPECT_EQ(loadInsertion("ray_mode = 0").ray_mode, ndtom::RayMode::PerPoint);
+}
+
+TEST(IniOptions, LikelihoodMethodByNameOrNumber) {
+  const auto load = [](const std::string& body) {
+    CNDTOccupancyMap::TLikelihoodOptions o;
+    o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s");
+    return o.likelihood_method;
+  };
+  using M = CNDTOccupancyMap::TLikelihoodMethod;
+  EXPECT_EQ(load(""), M::Points);
+  EXPECT_EQ(load("likelihood_method = NdtMcl"), M::NdtMcl);
+  EXPECT_EQ(load("likelihood_method = Points"), M::Points);
+  EXPECT_EQ(load("likelihood_method = 1"), M::NdtMcl);
+  EXPECT_EQ(load("likelihood_method = 0"), M::Points);
 }
 
 TEST(IniOptions, BadValuesFailAtLoadNamingTheOption) {
@@ -203,6 +229,16 @@ TEST(IniOptions, BadValuesFailAtLoadNamingTheOption) {
       {"scale = -1", "scale"},
       {"decimation = 0", "decimation"},
       {"max_range = 0", "max_range"},
+      {"likelihood_method = ndt_mcl", "likelihood_method"},
+      {"likelihood_method = 2", "likelihood_method = 2"},
+      {"ndt_mcl_scan_factor = 0", "[s] ndt_mcl_scan_factor = 0: must be in [1, 64]"},
+      {"ndt_mcl_scan_factor = 65", "ndt_mcl_scan_factor = 65"},
+      {"ndt_mcl_scan_factor = 2.5", "ndt_mcl_scan_factor = 2.5"},
+      {"ndt_mcl_map_factor = 0", "[s] ndt_mcl_map_factor = 0: must be in [1, 64]"},
+      {"ndt_mcl_map_factor = x", "ndt_mcl_map_factor = x"},
+      {"ndt_mcl_max_gaussians = 0", "[s] ndt_mcl_max_gaussians = 0: must be in [1, 100000]"},
+      {"ndt_mcl_max_gaussians = 1e3", "ndt_mcl_max_gaussians = 1e3"},
+      {"ndt_mcl_max_gaussians = many", "ndt_mcl_max_gaussians = many"},
   };
   for (const auto& [body, option] : likelihood) {
     CNDTOccupancyMap::TLikelihoodOptions o;

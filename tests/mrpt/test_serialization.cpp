@@ -1,6 +1,7 @@
 // Serialization and copies: a map written to an MRPT archive and read back, copied, or
 // carried inside a CMultiMetricMap (as rbpf-slam's particles are) is bit-for-bit the same.
-// Archives of earlier versions still load.
+// Archives of earlier versions still load (insertion options without threads, likelihood
+// options without the method).
 #include <gtest/gtest.h>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/maps/CMultiMetricMap.h>
@@ -35,6 +36,10 @@ CNDTOccupancyMap::Ptr sampleMap() {
   map->insertionOptions.p_hit = 0.65;
   map->insertionOptions.threads = 3;
   map->likelihoodOptions.decimation = 3;
+  map->likelihoodOptions.likelihood_method = CNDTOccupancyMap::TLikelihoodMethod::NdtMcl;
+  map->likelihoodOptions.ndt_mcl_scan_factor = 4;
+  map->likelihoodOptions.ndt_mcl_map_factor = 2;
+  map->likelihoodOptions.ndt_mcl_max_gaussians = 250;
   map->renderOptions.subdivisions = 2;
   map->genericMapParams.enableSaveAs3DObject = false;
   for (unsigned s = 0; s < 3; ++s) map->insertPoints(randomScan(s), Vector3d(0.1 * s, 0, 0.5));
@@ -60,6 +65,13 @@ void expectSameMaps(const CNDTOccupancyMap& a, const CNDTOccupancyMap& b) {
   EXPECT_TRUE(a.renderOptions == b.renderOptions);
   EXPECT_EQ(a.genericMapParams.enableSaveAs3DObject, b.genericMapParams.enableSaveAs3DObject);
 }
+
+// Insertion options version 1 is version 0 with `threads` (int32) appended.
+constexpr size_t kThreadsInInsertionOptions = 86;
+constexpr size_t kInsertionOptionsV1 = kThreadsInInsertionOptions + 4;
+// Likelihood options version 1 is version 0 with the method and the three NdtMcl options (four
+// int32) appended.
+constexpr size_t kMethodInLikelihoodOptions = 42;
 
 template <class T>
 std::shared_ptr<T> roundTrip(const T& object) {
@@ -94,10 +106,12 @@ TEST(Serialization, EmptyMapRoundTrip) {
 
 TEST(Serialization, CopyConstructionAndAssignment) {
   const auto map = sampleMap();
-  map->gaussianLookup();  // a built lookup is shared, not rebuilt
+  map->gaussianLookup();  // built lookups are shared, not rebuilt
+  map->ndtMclMap();
   CNDTOccupancyMap copy(*map);
   expectSameMaps(*map, copy);
   EXPECT_EQ(copy.gaussianLookup(), map->gaussianLookup());
+  EXPECT_EQ(copy.ndtMclMap(), map->ndtMclMap());
   CNDTOccupancyMap assigned(1.0);
   assigned = *map;
   expectSameMaps(*map, assigned);
@@ -105,6 +119,7 @@ TEST(Serialization, CopyConstructionAndAssignment) {
   copy.insertPoints(randomScan(11), Vector3d::Zero());
   EXPECT_NE(ndtom::encodeMap(copy.ndtMap()), ndtom::encodeMap(map->ndtMap()));
   EXPECT_NE(copy.gaussianLookup(), map->gaussianLookup());
+  EXPECT_NE(copy.ndtMclMap(), map->ndtMclMap());
 }
 
 TEST(Serialization, InsideAMultiMetricMap) {
@@ -252,6 +267,15 @@ TEST(Serialization, CorruptOptionsAreRejectedByName) {
   EXPECT_TRUE(contains(a.readWith(a.likelihood + 1, uint32_t(0)), "likelihoodOptions: decimation"));
   EXPECT_TRUE(contains(a.readWith(a.likelihood + 17, uint8_t(2)),
                        "likelihoodOptions.search_neighbours: stored bool is 2"));
+  EXPECT_TRUE(contains(a.readWith(a.likelihood + kMethodInLikelihoodOptions, int32_t(2)),
+                       "likelihoodOptions.likelihood_method = 2: unknown method"));
+  EXPECT_TRUE(contains(a.readWith(a.likelihood + kMethodInLikelihoodOptions + 4, int32_t(0)),
+                       "likelihoodOptions: ndt_mcl_scan_factor = 0"));
+  EXPECT_TRUE(contains(a.readWith(a.likelihood + kMethodInLikelihoodOptions + 8, int32_t(99)),
+                       "likelihoodOptions: ndt_mcl_map_factor = 99"));
+  EXPECT_TRUE(contains(a.readWith(a.likelihood + kMethodInLikelihoodOptions + 12, int32_t(-3)),
+                       "likelihoodOptions: ndt_mcl_max_gaussians = -3"));
+  EXPECT_TRUE(contains(a.readWith(a.likelihood, uint8_t(2)), "unknown serialization version"));
   EXPECT_TRUE(contains(a.readWith(a.render + 9, uint32_t(30)), "renderOptions: subdivisions = 30"));
   EXPECT_TRUE(contains(a.readWith(a.render + 41, int32_t(99)), "renderOptions.colormap = 99"));
   EXPECT_TRUE(contains(a.readWith(a.render + 45, uint8_t(0xff)),
@@ -316,9 +340,6 @@ std::vector<uint8_t> fileBytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// Insertion options version 1 is version 0 with `threads` (int32) appended.
-constexpr size_t kThreadsInInsertionOptions = 86;
-
 }  // namespace
 
 TEST(Serialization, ArchiveOfThePreviousVersionLoadsWithOneThread) {
@@ -352,6 +373,10 @@ TEST(Serialization, ArchiveOfThePreviousVersionLoadsWithOneThread) {
   EXPECT_EQ(o.min_eigen_abs, 2e-6);
   EXPECT_EQ(map.likelihoodOptions.decimation, 4u);
   EXPECT_EQ(map.likelihoodOptions.scale, 0.5);
+  EXPECT_EQ(map.likelihoodOptions.likelihood_method, CNDTOccupancyMap::TLikelihoodMethod::Points);
+  EXPECT_EQ(map.likelihoodOptions.ndt_mcl_scan_factor, 2);
+  EXPECT_EQ(map.likelihoodOptions.ndt_mcl_map_factor, 1);
+  EXPECT_EQ(map.likelihoodOptions.ndt_mcl_max_gaussians, 300);
   EXPECT_TRUE(map.renderOptions.show_free_cells);
   EXPECT_EQ(map.ndtMap().numCells(), 97u);
   EXPECT_EQ(map.ndtMap().numGaussians(), 46u);
@@ -359,14 +384,40 @@ TEST(Serialization, ArchiveOfThePreviousVersionLoadsWithOneThread) {
   // The stored map as is, then MRPT's one-byte end flag.
   EXPECT_EQ(offsetOf(old, map_data) + map_data.size() + 1, old.size());
 
-  // Written again it is version 1, and otherwise the same bytes.
+  // Written again both option blocks are version 1, and otherwise the same bytes.
   std::vector<uint8_t> again = archiveBytes(map);
-  ASSERT_EQ(again.size(), old.size() + 4);
+  ASSERT_EQ(again.size(), old.size() + 4 + 16);
+  const size_t likelihood = insertion + kInsertionOptionsV1;
   EXPECT_EQ(again[insertion], 1);
+  EXPECT_EQ(again[likelihood], 1);
+  again[likelihood] = 0;
+  again.erase(again.begin() + long(likelihood + kMethodInLikelihoodOptions),
+              again.begin() + long(likelihood + kMethodInLikelihoodOptions + 16));
   again[insertion] = 0;
   again.erase(again.begin() + long(insertion + kThreadsInInsertionOptions),
               again.begin() + long(insertion + kThreadsInInsertionOptions + 4));
   EXPECT_TRUE(again == old);
+}
+
+TEST(Serialization, HandMadeLikelihoodVersion0ArchiveLoadsWithThePointsMethod) {
+  // sampleMap() (NdtMcl, factors 4 and 2, 250 Gaussians) in the likelihood options' version
+  // 0 layout: version byte 0, none of the four fields version 1 added.
+  const Archive a;
+  ASSERT_EQ(a.bytes[a.likelihood], 1);
+  std::vector<uint8_t> v0 = a.bytes;
+  v0[a.likelihood] = 0;
+  v0.erase(v0.begin() + long(a.likelihood + kMethodInLikelihoodOptions),
+           v0.begin() + long(a.likelihood + kMethodInLikelihoodOptions + 16));
+  CNDTOccupancyMap map;
+  ASSERT_EQ(readInto(map, v0), "");
+  const auto& o = map.likelihoodOptions;
+  EXPECT_EQ(o.likelihood_method, CNDTOccupancyMap::TLikelihoodMethod::Points);
+  EXPECT_EQ(o.ndt_mcl_scan_factor, 2);
+  EXPECT_EQ(o.ndt_mcl_map_factor, 1);
+  EXPECT_EQ(o.ndt_mcl_max_gaussians, 300);
+  EXPECT_EQ(o.decimation, 3u) << "the version 0 fields as stored";
+  map.likelihoodOptions = a.map->likelihoodOptions;
+  expectSameMaps(*a.map, map);
 }
 
 TEST(Serialization, HandMadeVersion0ArchiveLoadsWithOneThread) {

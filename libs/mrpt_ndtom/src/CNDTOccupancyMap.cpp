@@ -7,6 +7,7 @@
 
 #include "archive_checks.h"
 #include "ndtom/map_io.h"
+#include "scan_ndt_cache.h"
 
 using mrpt_ndtom::CNDTOccupancyMap;
 
@@ -105,7 +106,9 @@ ndtom::MapOptions withResolution(double resolution) {
 }  // namespace
 
 CNDTOccupancyMap::CNDTOccupancyMap(double resolution)
-    : mrpt::system::COutputLogger("CNDTOccupancyMap"), m_map(withResolution(resolution)) {
+    : mrpt::system::COutputLogger("CNDTOccupancyMap"),
+      m_map(withResolution(resolution)),
+      m_scan_ndts(std::make_shared<detail::ScanNdtCache>()) {
   insertionOptions.resolution = resolution;
 }
 
@@ -117,7 +120,9 @@ CNDTOccupancyMap::CNDTOccupancyMap(const CNDTOccupancyMap& other)
       renderOptions(other.renderOptions),
       m_map(other.m_map),
       m_last_report(other.m_last_report),
-      m_lookup(other.gaussianLookup()) {}  // immutable: safe to share
+      m_scan_ndts(std::make_shared<detail::ScanNdtCache>()) {
+  shareLookups(other);
+}
 
 CNDTOccupancyMap& CNDTOccupancyMap::operator=(const CNDTOccupancyMap& other) {
   if (this == &other) return *this;
@@ -128,10 +133,25 @@ CNDTOccupancyMap& CNDTOccupancyMap::operator=(const CNDTOccupancyMap& other) {
   renderOptions = other.renderOptions;
   m_map = other.m_map;
   m_last_report = other.m_last_report;
-  auto lookup = other.gaussianLookup();
+  shareLookups(other);
+  return *this;
+}
+
+// The prepared Gaussians are immutable: a copy of the same map state may share them.
+void CNDTOccupancyMap::shareLookups(const CNDTOccupancyMap& other) {
+  std::shared_ptr<const ndtom::GaussianLookup> lookup;
+  std::shared_ptr<const ndtom::NdtMclMap> mcl_map;
+  int mcl_factor;
+  {
+    std::lock_guard<std::mutex> lock(other.m_lookup_mutex);
+    lookup = other.m_lookup;
+    mcl_map = other.m_mcl_map;
+    mcl_factor = other.m_mcl_factor;
+  }
   std::lock_guard<std::mutex> lock(m_lookup_mutex);
   m_lookup = std::move(lookup);
-  return *this;
+  m_mcl_map = std::move(mcl_map);
+  m_mcl_factor = mcl_factor;
 }
 
 std::shared_ptr<const ndtom::GaussianLookup> CNDTOccupancyMap::gaussianLookup() const {
@@ -140,9 +160,22 @@ std::shared_ptr<const ndtom::GaussianLookup> CNDTOccupancyMap::gaussianLookup() 
   return m_lookup;
 }
 
+std::shared_ptr<const ndtom::NdtMclMap> CNDTOccupancyMap::ndtMclMap() const {
+  const int factor = likelihoodOptions.ndt_mcl_map_factor;
+  ASSERTMSG_(factor >= 1, "likelihoodOptions.ndt_mcl_map_factor must be >= 1");
+  std::lock_guard<std::mutex> lock(m_lookup_mutex);
+  if (!m_mcl_map || m_mcl_factor != factor) {
+    m_mcl_map = factor == 1 ? std::make_shared<const ndtom::NdtMclMap>(m_map)
+                            : std::make_shared<const ndtom::NdtMclMap>(m_map.coarsened(factor));
+    m_mcl_factor = factor;
+  }
+  return m_mcl_map;
+}
+
 void CNDTOccupancyMap::invalidateLookup() {
   std::lock_guard<std::mutex> lock(m_lookup_mutex);
   m_lookup.reset();
+  m_mcl_map.reset();
 }
 
 void CNDTOccupancyMap::applyInsertionOptions() {

@@ -2,32 +2,14 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
+#include "mrpt_ndtom/points_map.h"
 #include "ndtom/ndt_correspondences.h"
 #include "ndtom/ndt_likelihood.h"
+#include "ndtom/ndt_mcl.h"
+#include "scan_ndt_cache.h"
 
 namespace mrpt_ndtom {
-namespace {
-
 using Eigen::Vector3d;
-
-const mrpt::maps::CPointsMap* asPointsMap(const mrpt::maps::CMetricMap* map) {
-  if (!map) return nullptr;
-  if (const auto* points = dynamic_cast<const mrpt::maps::CPointsMap*>(map)) return points;
-  return map->getAsSimplePointsMap();  // e.g. a CMultiMetricMap holding one points map
-}
-
-// The other map's points moved into this map's frame by `pose`.
-std::vector<Vector3d> transformedPoints(const mrpt::maps::CPointsMap& points,
-                                        const mrpt::poses::CPose3D& pose) {
-  const Eigen::Isometry3d t = toIsometry(pose);
-  const auto &xs = points.getPointsBufferRef_x(), &ys = points.getPointsBufferRef_y(),
-             &zs = points.getPointsBufferRef_z();
-  std::vector<Vector3d> out(xs.size());
-  for (size_t i = 0; i < xs.size(); ++i) out[i] = t * Vector3d(xs[i], ys[i], zs[i]);
-  return out;
-}
-
-}  // namespace
 
 bool CNDTOccupancyMap::internal_canComputeObservationLikelihood(
     const mrpt::obs::CObservation& obs) const {
@@ -36,6 +18,13 @@ bool CNDTOccupancyMap::internal_canComputeObservationLikelihood(
 
 double CNDTOccupancyMap::internal_computeObservationLikelihood(
     const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const {
+  return likelihoodOptions.likelihood_method == TLikelihoodMethod::NdtMcl
+             ? ndtMclLikelihood(obs, takenFrom)
+             : pointsLikelihood(obs, takenFrom);
+}
+
+double CNDTOccupancyMap::pointsLikelihood(const mrpt::obs::CObservation& obs,
+                                          const mrpt::poses::CPose3D& takenFrom) const {
   const TLikelihoodOptions& o = likelihoodOptions;
   const auto extracted = observationPoints(
       obs, takenFrom, TPointExtractionOptions{o.decimation, o.decimation_3d_range});
@@ -50,6 +39,53 @@ double CNDTOccupancyMap::internal_computeObservationLikelihood(
   core.outlier_likelihood = o.outlier_likelihood;
   core.search_neighbours = o.search_neighbours;
   return o.scale * ndtom::scanLikelihood(*gaussianLookup(), points, core).log_likelihood;
+}
+
+// The NDT is built in the robot frame (the sensor's pose on the robot applied), so a
+// particle's pose is the transform to score it at. Every point is used: the NDT is built once
+// per observation, not once per particle.
+std::shared_ptr<const ndtom::ScanNdt> CNDTOccupancyMap::scanNdt(
+    const mrpt::obs::CObservation& obs) const {
+  const TLikelihoodOptions& o = likelihoodOptions;
+  detail::ScanNdtKey key = detail::ScanNdtKey::of(obs);
+  key.cell_size = m_map.options().resolution * o.ndt_mcl_scan_factor;
+  key.max_gaussians = size_t(o.ndt_mcl_max_gaussians);
+  key.min_range = o.min_range;
+  key.max_range = o.max_range;
+  key.min_eigen_ratio = m_map.options().regularization.min_eigen_ratio;
+  key.min_eigen_abs = m_map.options().regularization.min_eigen_abs;
+  if (!isSupportedObservation(obs)) return nullptr;
+  return m_scan_ndts->get(key, [&] {
+    // Options set in code were never checked: a negative count would keep every Gaussian.
+    try {
+      o.validate();
+    } catch (const std::invalid_argument& e) {
+      THROW_EXCEPTION(std::string("CNDTOccupancyMap::likelihoodOptions: ") + e.what());
+    }
+    const auto extracted = observationPoints(obs, mrpt::poses::CPose3D());
+    std::vector<Vector3d> points;
+    points.reserve(extracted->points_world.size());
+    for (const Vector3d& p : extracted->points_world) {
+      const double range = (p - extracted->sensor_origin).norm();
+      if (range >= key.min_range && range <= key.max_range) points.push_back(p);
+    }
+    ndtom::ScanNdtOptions options;
+    options.cell_size = key.cell_size;
+    options.max_gaussians = key.max_gaussians;
+    options.regularization = m_map.options().regularization;
+    return ndtom::buildScanNdt(points, options);
+  });
+}
+
+double CNDTOccupancyMap::ndtMclLikelihood(const mrpt::obs::CObservation& obs,
+                                          const mrpt::poses::CPose3D& takenFrom) const {
+  const TLikelihoodOptions& o = likelihoodOptions;
+  const auto scan = scanNdt(obs);
+  if (!scan) return 0.0;
+  ndtom::NdtMclOptions core;
+  core.outlier_likelihood = o.outlier_likelihood;
+  return o.scale *
+         ndtom::ndtMclLikelihood(*ndtMclMap(), *scan, toIsometry(takenFrom), core).log_likelihood;
 }
 
 void CNDTOccupancyMap::determineMatching3D(const mrpt::maps::CMetricMap* otherMap,
@@ -71,7 +107,7 @@ void CNDTOccupancyMap::determineMatching3D(const mrpt::maps::CMetricMap* otherMa
   co.first = params.offset_other_map_points;
   co.stride = std::max<size_t>(1, params.decimation_other_map_points);
   const auto result =
-      ndtom::findCorrespondences(*gaussianLookup(), transformedPoints(*other, otherMapPose), co);
+      ndtom::findCorrespondences(*gaussianLookup(), pointsOf(*other, otherMapPose), co);
 
   const auto &xs = other->getPointsBufferRef_x(), &ys = other->getPointsBufferRef_y(),
              &zs = other->getPointsBufferRef_z();
@@ -95,7 +131,7 @@ float CNDTOccupancyMap::compute3DMatchingRatio(
     const mrpt::maps::TMatchingRatioParams& params) const {
   const mrpt::maps::CPointsMap* other = asPointsMap(otherMap);
   if (!other || other->size() == 0) return 0.0f;
-  return float(ndtom::matchingRatio(*gaussianLookup(), transformedPoints(*other, otherMapPose),
+  return float(ndtom::matchingRatio(*gaussianLookup(), pointsOf(*other, otherMapPose),
                                     params.maxMahaDistForCorr));
 }
 

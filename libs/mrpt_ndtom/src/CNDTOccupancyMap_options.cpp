@@ -10,11 +10,17 @@
 #include <sstream>
 
 #include "archive_checks.h"
+#include "ini_values.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 #include "ndtom/ndt_likelihood.h"
 
 namespace mrpt_ndtom {
 namespace {
+
+// NdtMcl limits: cells beyond 64 map cells describe another scene, and more scan Gaussians
+// than this cost milliseconds per particle.
+constexpr int32_t kMaxNdtMclFactor = 64;
+constexpr int32_t kMaxNdtMclGaussians = 100000;
 
 // Decimations are read as signed integers so that "-1" is reported, not wrapped.
 uint32_t readDecimation(const mrpt::config::CConfigFileBase& c, const std::string& section,
@@ -24,21 +30,6 @@ uint32_t readDecimation(const mrpt::config::CConfigFileBase& c, const std::strin
     THROW_EXCEPTION(
         mrpt::format("[%s] %s = %d: must be >= 1", section.c_str(), name.c_str(), value));
   return uint32_t(value);
-}
-
-// Read as text: read_int's atoi takes "4294967298" as 2 and "1e3" as 1. MRPT leaves "#" and
-// ";" comments in the value, so they may follow the number. The range is checked by the core.
-int readThreads(const mrpt::config::CConfigFileBase& c, const std::string& section, int current) {
-  const std::string text = c.read_string(section, "threads", std::to_string(current));
-  char* end = nullptr;
-  const long long value = std::strtoll(text.c_str(), &end, 10);
-  const char* rest = end;
-  while (std::isspace(static_cast<unsigned char>(*rest))) ++rest;
-  if (end == text.c_str() || (*rest != '\0' && *rest != '#' && *rest != ';') || value < INT_MIN ||
-      value > INT_MAX)  // strtoll saturates on overflow
-    THROW_EXCEPTION(mrpt::format("[%s] threads = %s: must be an integer in [1, 256]",
-                                 section.c_str(), text.c_str()));
-  return int(value);
 }
 
 // Runs a validation and rethrows its message prefixed with the .ini section.
@@ -80,7 +71,8 @@ void CNDTOccupancyMap::TInsertionOptions::loadFromConfigFile(
   decimation_3d_range = readDecimation(source, section, "decimation_3d_range", decimation_3d_range);
   MRPT_LOAD_CONFIG_VAR(min_eigen_ratio, double, source, section);
   MRPT_LOAD_CONFIG_VAR(min_eigen_abs, double, source, section);
-  threads = readThreads(source, section, threads);
+  threads = int(detail::readInteger(source, section, "threads", threads, 1,
+                                    ndtom::InsertOptions::kMaxThreads));
   MRPT_LOAD_CONFIG_VAR(memory_budget, double, source, section);
   validateSection(section, [this] { toMapOptions(); });
 }
@@ -187,6 +179,8 @@ bool CNDTOccupancyMap::TInsertionOptions::operator==(const TInsertionOptions& o)
 
 void CNDTOccupancyMap::TLikelihoodOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& source, const std::string& section) {
+  likelihood_method =
+      source.read_enum<TLikelihoodMethod>(section, "likelihood_method", likelihood_method);
   decimation = readDecimation(source, section, "decimation", decimation);
   decimation_3d_range = readDecimation(source, section, "decimation_3d_range", decimation_3d_range);
   MRPT_LOAD_CONFIG_VAR(outlier_likelihood, double, source, section);
@@ -194,20 +188,34 @@ void CNDTOccupancyMap::TLikelihoodOptions::loadFromConfigFile(
   MRPT_LOAD_CONFIG_VAR(min_range, double, source, section);
   MRPT_LOAD_CONFIG_VAR(max_range, double, source, section);
   MRPT_LOAD_CONFIG_VAR(scale, double, source, section);
+  ndt_mcl_scan_factor = int32_t(detail::readInteger(source, section, "ndt_mcl_scan_factor",
+                                                    ndt_mcl_scan_factor, 1, kMaxNdtMclFactor));
+  ndt_mcl_map_factor = int32_t(detail::readInteger(source, section, "ndt_mcl_map_factor",
+                                                   ndt_mcl_map_factor, 1, kMaxNdtMclFactor));
+  ndt_mcl_max_gaussians = int32_t(detail::readInteger(
+      source, section, "ndt_mcl_max_gaussians", ndt_mcl_max_gaussians, 1, kMaxNdtMclGaussians));
   validateSection(section, [this] { validate(); });
 }
 
 void CNDTOccupancyMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                                             const std::string& s) const {
-  MRPT_SAVE_CONFIG_VAR_COMMENT(decimation, "Score 1 point in N");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(likelihood_method,
+                               "Points (each point) | NdtMcl (the scan's own NDT, NDT-MCL)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(decimation, "Points: score 1 point in N");
   MRPT_SAVE_CONFIG_VAR_COMMENT(decimation_3d_range,
-                               "Depth images: score every N-th row and column");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(outlier_likelihood, "Floor of a point's likelihood, in (0, 1)");
+                               "Points, depth images: score every N-th row and column");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(outlier_likelihood,
+                               "Floor of a point's / scan Gaussian's likelihood, in (0, 1)");
   MRPT_SAVE_CONFIG_VAR_COMMENT(search_neighbours,
-                               "Best Gaussian of the 27 cells around a point (else own cell)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Closer points are not scored [m]");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Farther points are not scored [m] (inf: no limit)");
+                               "Points: best Gaussian of the 27 cells around a point");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Closer points are not used [m]");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Farther points are not used [m] (inf: no limit)");
   MRPT_SAVE_CONFIG_VAR_COMMENT(scale, "Multiplies the log-likelihood (< 1 flattens weights)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_scan_factor, "NdtMcl: scan cell edge in map cells, [1, 64]");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_map_factor,
+                               "NdtMcl: map coarsening scored against, [1, 64] (1: the map)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_max_gaussians,
+                               "NdtMcl: scan Gaussians kept (most points), in [1, 100000]");
 }
 
 void CNDTOccupancyMap::TLikelihoodOptions::validate() const {
@@ -220,28 +228,55 @@ void CNDTOccupancyMap::TLikelihoodOptions::validate() const {
     msg << "max_range = " << max_range << ": must be > min_range";
   else if (!(std::isfinite(scale) && scale > 0))
     msg << "scale = " << scale << ": must be finite and > 0";
+  else if (likelihood_method != TLikelihoodMethod::Points &&
+           likelihood_method != TLikelihoodMethod::NdtMcl)
+    msg << "likelihood_method = " << int32_t(likelihood_method) << ": unknown method";
+  else if (ndt_mcl_scan_factor < 1 || ndt_mcl_scan_factor > kMaxNdtMclFactor)
+    msg << "ndt_mcl_scan_factor = " << ndt_mcl_scan_factor << ": must be in [1, "
+        << kMaxNdtMclFactor << "]";
+  else if (ndt_mcl_map_factor < 1 || ndt_mcl_map_factor > kMaxNdtMclFactor)
+    msg << "ndt_mcl_map_factor = " << ndt_mcl_map_factor << ": must be in [1, " << kMaxNdtMclFactor
+        << "]";
+  else if (ndt_mcl_max_gaussians < 1 || ndt_mcl_max_gaussians > kMaxNdtMclGaussians)
+    msg << "ndt_mcl_max_gaussians = " << ndt_mcl_max_gaussians << ": must be in [1, "
+        << kMaxNdtMclGaussians << "]";
   if (!msg.str().empty()) throw std::invalid_argument(msg.str());
   ndtom::LikelihoodOptions core;
   core.outlier_likelihood = outlier_likelihood;
   ndtom::validate(core);
 }
 
+// Version 1 appends the method and the three NdtMcl options to version 0.
 void CNDTOccupancyMap::TLikelihoodOptions::writeToStream(mrpt::serialization::CArchive& out) const {
-  const uint8_t version = 0;
+  const uint8_t version = 1;
   out << version << decimation << decimation_3d_range << outlier_likelihood << search_neighbours
-      << min_range << max_range << scale;
+      << min_range << max_range << scale << int32_t(likelihood_method) << ndt_mcl_scan_factor
+      << ndt_mcl_map_factor << ndt_mcl_max_gaussians;
 }
 
-// As TInsertionOptions::readFromStream: validated, unchanged on error.
+// As TInsertionOptions::readFromStream: validated, unchanged on error. Version 0 archives
+// score with the Points method, the only one there was.
 void CNDTOccupancyMap::TLikelihoodOptions::readFromStream(mrpt::serialization::CArchive& in) {
   uint8_t version;
   in >> version;
   TLikelihoodOptions read;
   switch (version) {
     case 0:
+    case 1:
       in >> read.decimation >> read.decimation_3d_range >> read.outlier_likelihood;
       read.search_neighbours = detail::readBool(in, "likelihoodOptions.search_neighbours");
       in >> read.min_range >> read.max_range >> read.scale;
+      if (version >= 1) {
+        int32_t method;
+        in >> method >> read.ndt_mcl_scan_factor >> read.ndt_mcl_map_factor >>
+            read.ndt_mcl_max_gaussians;
+        // Checked here, as a number: an enum holding another value is not one of the methods.
+        if (method != int32_t(TLikelihoodMethod::Points) &&
+            method != int32_t(TLikelihoodMethod::NdtMcl))
+          THROW_EXCEPTION(
+              mrpt::format("likelihoodOptions.likelihood_method = %d: unknown method", method));
+        read.likelihood_method = TLikelihoodMethod(method);
+      }
       break;
     default:
       MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
@@ -251,9 +286,13 @@ void CNDTOccupancyMap::TLikelihoodOptions::readFromStream(mrpt::serialization::C
 }
 
 bool CNDTOccupancyMap::TLikelihoodOptions::operator==(const TLikelihoodOptions& o) const {
-  return decimation == o.decimation && decimation_3d_range == o.decimation_3d_range &&
+  return likelihood_method == o.likelihood_method && decimation == o.decimation &&
+         decimation_3d_range == o.decimation_3d_range &&
          outlier_likelihood == o.outlier_likelihood && search_neighbours == o.search_neighbours &&
-         min_range == o.min_range && max_range == o.max_range && scale == o.scale;
+         min_range == o.min_range && max_range == o.max_range && scale == o.scale &&
+         ndt_mcl_scan_factor == o.ndt_mcl_scan_factor &&
+         ndt_mcl_map_factor == o.ndt_mcl_map_factor &&
+         ndt_mcl_max_gaussians == o.ndt_mcl_max_gaussians;
 }
 
 }  // namespace mrpt_ndtom

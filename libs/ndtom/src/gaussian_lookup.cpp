@@ -18,25 +18,32 @@ PreparedGaussian prepare(const Gaussian& g) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(g.covariance);
   Eigen::Vector3d lambda = eig.eigenvalues().cwiseMax(kMinEigenvalue);  // ascending
   const Eigen::Matrix3d& v = eig.eigenvectors();
+  p.covariance = v * lambda.asDiagonal() * v.transpose();
   p.information = v * lambda.cwiseInverse().asDiagonal() * v.transpose();
+  p.max_variance = lambda[2];
   p.projection = v * (lambda[0] * lambda.cwiseInverse()).asDiagonal() * v.transpose();
   return p;
 }
 
 }  // namespace
 
-GaussianLookup::GaussianLookup(const NdtMap& map) : geometry_(map.geometry()) {
-  map.forEachGaussian([&](const Gaussian& g) { gaussians_.push_back(prepare(g)); },
-                      /*regularized=*/true);
+GaussianLookup::GaussianLookup(const NdtMap& map, const LookupOptions& options)
+    : geometry_(map.geometry()) {
+  const bool gate = options.occupied_only && map.options().occupancy.enabled;
+  map.forEachCell([&](const CellView& c) {
+    if (!c.stats || !c.stats->hasGaussian() || (gate && !(c.logodds > 0.f))) return;
+    gaussians_.push_back(prepare(map.gaussianOf(c, /*regularized=*/true)));
+  });
   std::sort(gaussians_.begin(), gaussians_.end(),
             [](const PreparedGaussian& a, const PreparedGaussian& b) { return a.cell < b.cell; });
-  std::vector<Eigen::Vector3d> means;
-  means.reserve(gaussians_.size());
   for (uint32_t i = 0; i < gaussians_.size(); ++i) {
     const CellIndex& cell = gaussians_[i].cell;
     by_cell_.getOrCreate(blockOf(cell)).index[offsetInBlock(cell)] = i;
-    means.push_back(gaussians_[i].mean);
   }
+  if (!options.nearest_means) return;
+  std::vector<Eigen::Vector3d> means;
+  means.reserve(gaussians_.size());
+  for (const PreparedGaussian& g : gaussians_) means.push_back(g.mean);
   means_ = PointKdTree(means);
 }
 

@@ -1,6 +1,7 @@
 #include "ndtom/ndt_map.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 
@@ -24,6 +25,12 @@ NdtMap::Scratch& NdtMap::Scratch::operator=(Scratch&&) noexcept = default;
 
 NdtMap::NdtMap(const MapOptions& options) : options_(options), geometry_(options.resolution) {
   validate(options_);
+  touch();
+}
+
+void NdtMap::touch() {
+  static std::atomic<uint64_t> last_revision{0};
+  revision_ = last_revision.fetch_add(1, std::memory_order_relaxed) + 1;
 }
 
 // A copy's statistics arrays hold no spare room: their bytes are counted again.
@@ -31,7 +38,8 @@ NdtMap::NdtMap(const NdtMap& other)
     : options_(other.options_),
       geometry_(other.geometry_),
       grid_(other.grid_),
-      num_cells_(other.num_cells_) {
+      num_cells_(other.num_cells_),
+      revision_(other.revision_) {
   stats_bytes_ = memoryBytesCounted() - grid_.memoryBytes();
 }
 
@@ -42,6 +50,7 @@ NdtMap& NdtMap::operator=(const NdtMap& other) {
   geometry_ = other.geometry_;
   grid_ = other.grid_;
   num_cells_ = other.num_cells_;
+  revision_ = other.revision_;
   stats_bytes_ = memoryBytesCounted() - grid_.memoryBytes();
   return *this;
 }
@@ -64,6 +73,7 @@ InsertionReport NdtMap::insertScan(const std::vector<Eigen::Vector3d>& points,
 InsertionReport NdtMap::insertScan(const std::vector<Eigen::Vector3d>& points,
                                    const Eigen::Vector3d& sensor_origin,
                                    const InsertOptions& options) {
+  touch();
   ScanUpdater updater(*this, options, scratch_.get());
   return updater.run(points, sensor_origin);
 }
@@ -131,6 +141,7 @@ size_t NdtMap::memoryBytesCounted() const {
 }
 
 void NdtMap::clear() {
+  touch();
   grid_.clear();
   scratch_ = Scratch();
   num_cells_ = 0;
@@ -150,6 +161,7 @@ bool NdtMap::setCell(const CellIndex& index, float logodds, const CellStats& sta
   const float clamped = clampLogOdds(logodds);
   if (const char* problem = cellProblem(index, clamped, stats, options_))
     throw std::invalid_argument(std::string("setCell: ") + problem);
+  touch();
   Block* block = grid_.find(blockOf(index));
   if (!block) {
     checkRoomForBlocks(1, "setCell");
@@ -186,6 +198,7 @@ void NdtMap::shrinkToFit() {
 void NdtMap::merge(const NdtMap& other) {
   if (other.options_.resolution != options_.resolution)
     throw std::invalid_argument("merge: maps have different resolutions");
+  touch();
   if (&other == this) {
     const NdtMap copy = other;
     merge(copy);

@@ -39,6 +39,19 @@ int64_t parseInteger(const std::string& option, const std::string& text, int64_t
   return value;
 }
 
+std::vector<int64_t> parseIntegerList(const std::string& option, const std::string& text,
+                                      int64_t min_value, int64_t max_value) {
+  std::vector<int64_t> out;
+  for (const std::string& item : splitList(text)) {
+    const int64_t value = parseInteger(option, item, min_value, max_value);
+    if (std::find(out.begin(), out.end(), value) != out.end())
+      throw UsageError(option + ": " + item + " is listed twice");
+    out.push_back(value);
+  }
+  if (out.empty()) throw UsageError(option + ": empty list");
+  return out;
+}
+
 bool parseBool(const std::string& option, const std::string& text) {
   std::string lower = text;
   std::transform(lower.begin(), lower.end(), lower.begin(),

@@ -33,8 +33,12 @@
 #include "mrpt_ndtom/observation_points.h"
 #include "ndtom/gaussian_lookup.h"
 #include "ndtom/ndt_map.h"
+#include "ndtom/ndt_mcl.h"
 
 namespace mrpt_ndtom {
+namespace detail {
+class ScanNdtCache;
+}
 
 class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COutputLogger {
   DEFINE_SERIALIZABLE(CNDTOccupancyMap, mrpt_ndtom)
@@ -88,7 +92,17 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
   };
   TInsertionOptions insertionOptions;
 
-  /// How computeObservationLikelihood() scores an observation (see ndtom/ndt_likelihood.h).
+  /// How computeObservationLikelihood() scores an observation.
+  enum class TLikelihoodMethod : int32_t {
+    /// Each point against the best Gaussian near it (ndtom/ndt_likelihood.h).
+    Points = 0,
+    /// NDT-MCL: the scan's own NDT, built once per observation, each of its Gaussians
+    /// against the map Gaussian of its cell (ndtom/ndt_mcl.h). Made for particle filters:
+    /// a few hundred terms per particle.
+    NdtMcl = 1
+  };
+
+  /// How computeObservationLikelihood() scores an observation.
   class TLikelihoodOptions : public mrpt::config::CLoadableOptions {
    public:
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
@@ -96,14 +110,27 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
     void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                           const std::string& section) const override;
 
-    uint32_t decimation{10};          ///< Score 1 point in N (Default: 10)
-    uint32_t decimation_3d_range{8};  ///< Depth images: every N-th row and column (Default: 8)
-    double outlier_likelihood{0.05};  ///< A point's likelihood floor, in (0, 1) (Default: 0.05)
-    bool search_neighbours{true};  ///< Best Gaussian of the 27 cells around a point (Default: true)
-    double min_range{0.0};         ///< Closer points are not scored (Default: 0 m)
+    /// Points | NdtMcl (Default: Points)
+    TLikelihoodMethod likelihood_method{TLikelihoodMethod::Points};
+    uint32_t decimation{10};          ///< Points: score 1 point in N (Default: 10)
+    uint32_t decimation_3d_range{8};  ///< Points, depth images: every N-th row, column (Default: 8)
+    /// A point's (Points) or scan Gaussian's (NdtMcl) likelihood floor, in (0, 1)
+    /// (Default: 0.05)
+    double outlier_likelihood{0.05};
+    /// Points: best Gaussian of the 27 cells around a point (Default: true)
+    bool search_neighbours{true};
+    double min_range{0.0};  ///< Closer points are not used (Default: 0 m)
     double max_range{std::numeric_limits<double>::infinity()};  ///< (Default: inf)
     /// Multiplies the summed log-likelihood: < 1 flattens particle weights (Default: 1)
     double scale{1.0};
+    /// NdtMcl: edge of the scan's cells, in map cells, in [1, 64] (Default: 2)
+    int32_t ndt_mcl_scan_factor{2};
+    /// NdtMcl: the map's exact coarsening the scan is scored against, in map cells, in
+    /// [1, 64]; 1 is the map itself (Default: 1)
+    int32_t ndt_mcl_map_factor{1};
+    /// NdtMcl: scan Gaussians kept, those with the most points, in [1, 100000]; the cost per
+    /// particle grows with it (Default: 300)
+    int32_t ndt_mcl_max_gaussians{300};
 
     /// Throws std::invalid_argument naming a bad value.
     void validate() const;
@@ -137,6 +164,12 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
 
   /// The prepared Gaussians of the current map state (built on first use, then shared).
   std::shared_ptr<const ndtom::GaussianLookup> gaussianLookup() const;
+  /// The map's Gaussians as the NdtMcl likelihood scores against them: the exact coarsening by
+  /// likelihoodOptions.ndt_mcl_map_factor (built on first use, then shared).
+  std::shared_ptr<const ndtom::NdtMclMap> ndtMclMap() const;
+  /// The NDT the NdtMcl likelihood builds of `obs` (robot frame), as likelihoodOptions say;
+  /// nullptr for an unsupported observation. Kept while particles are scored with it.
+  std::shared_ptr<const ndtom::ScanNdt> scanNdt(const mrpt::obs::CObservation& obs) const;
 
   // --- CMetricMap ------------------------------------------------------------------------
 
@@ -173,14 +206,24 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
       const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const override;
   bool internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const override;
 
+  double pointsLikelihood(const mrpt::obs::CObservation& obs,
+                          const mrpt::poses::CPose3D& takenFrom) const;
+  double ndtMclLikelihood(const mrpt::obs::CObservation& obs,
+                          const mrpt::poses::CPose3D& takenFrom) const;
+
   /// Brings m_map's options in line with insertionOptions.
   void applyInsertionOptions();
   void invalidateLookup();
+  void shareLookups(const CNDTOccupancyMap& other);
 
   ndtom::NdtMap m_map;
   ndtom::InsertionReport m_last_report;
-  mutable std::mutex m_lookup_mutex;
+  mutable std::mutex m_lookup_mutex;  ///< guards m_lookup, m_mcl_map and m_mcl_factor
   mutable std::shared_ptr<const ndtom::GaussianLookup> m_lookup;  ///< null when stale
+  mutable std::shared_ptr<const ndtom::NdtMclMap> m_mcl_map;      ///< null when stale
+  mutable int m_mcl_factor = 0;                                   ///< m_mcl_map's coarsening
+  /// Each map object has its own (a copy starts with an empty one); never null.
+  std::shared_ptr<detail::ScanNdtCache> m_scan_ndts;
 
   MAP_DEFINITION_START(CNDTOccupancyMap)
   mrpt_ndtom::CNDTOccupancyMap::TInsertionOptions insertionOpts;
@@ -194,4 +237,10 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
 MRPT_ENUM_TYPE_BEGIN(ndtom::RayMode)
 MRPT_FILL_ENUM_MEMBER(ndtom::RayMode, PerPoint);
 MRPT_FILL_ENUM_MEMBER(ndtom::RayMode, PerHitCell);
+MRPT_ENUM_TYPE_END()
+
+// The same for the likelihood method ("Points", "NdtMcl").
+MRPT_ENUM_TYPE_BEGIN(mrpt_ndtom::CNDTOccupancyMap::TLikelihoodMethod)
+MRPT_FILL_ENUM_MEMBER(mrpt_ndtom::CNDTOccupancyMap::TLikelihoodMethod, Points);
+MRPT_FILL_ENUM_MEMBER(mrpt_ndtom::CNDTOccupancyMap::TLikelihoodMethod, NdtMcl);
 MRPT_ENUM_TYPE_END()

@@ -21,8 +21,10 @@ struct PreparedGaussian {
   CellIndex cell;
   uint32_t n = 0;                                  ///< points behind the estimate
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();  ///< world frame (m)
-  /// Inverse of the regularised covariance (m⁻²): d² = (p − μ)ᵀ·this·(p − μ).
+  /// The regularised covariance (m²) and its inverse (m⁻²): d² = (p − μ)ᵀ·information·(p − μ).
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  double max_variance = 0;  ///< its largest eigenvalue (m²): d² ≥ |p − μ|² / max_variance
   /// λ_min·Σ⁻¹ of the regularised covariance (dimensionless): applied to p − μ it keeps the
   /// offset along the Gaussian's thinnest axis whole and shrinks the others by λ_min/λ_i, so
   /// p − projection·(p − μ) is p moved onto a planar cell's plane, a linear cell's line, or
@@ -30,11 +32,19 @@ struct PreparedGaussian {
   Eigen::Matrix3d projection = Eigen::Matrix3d::Zero();
 };
 
+struct LookupOptions {
+  /// Only cells believed occupied (log-odds > 0) when the map tracks occupancy: free space
+  /// and vanished objects attract nothing (Default: false, every Gaussian).
+  bool occupied_only = false;
+  /// Build the k-d tree behind means() (Default: true).
+  bool nearest_means = true;
+};
+
 class GaussianLookup {
  public:
   /// Every cell of `map` with a Gaussian (N ≥ 3), its covariance regularised as the map's
   /// options say. O(G log G) for G Gaussians.
-  explicit GaussianLookup(const NdtMap& map);
+  explicit GaussianLookup(const NdtMap& map, const LookupOptions& options = {});
 
   const GridGeometry& geometry() const { return geometry_; }
   size_t size() const { return gaussians_.size(); }
@@ -51,7 +61,8 @@ class GaussianLookup {
   template <class F>
   void forEachAround(const CellIndex& centre, F&& f) const;
 
-  /// k-d tree over the means; its indices are those of gaussians().
+  /// k-d tree over the means; its indices are those of gaussians(). Empty unless built
+  /// (LookupOptions::nearest_means).
   const PointKdTree& means() const { return means_; }
 
  private:

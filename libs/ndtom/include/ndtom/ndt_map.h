@@ -91,6 +91,11 @@ class NdtMap {
   /// The same, counted block by block: for tests of the bookkeeping.
   size_t memoryBytesCounted() const;
 
+  /// Changes with every call that may change the cells (insertion, setCell, merge, clear);
+  /// unique across maps, and shared by copies. Caches derived from a map (the registration
+  /// pyramid) compare it to know when to rebuild.
+  uint64_t revision() const { return revision_; }
+
   // --- Map algebra ------------------------------------------------------------------------
 
   /// Adds a map built from other data (same resolution, else std::invalid_argument):
@@ -171,12 +176,14 @@ class NdtMap {
   double halfCell() const { return 0.5 * options_.resolution; }
   /// Throws MemoryBudgetError unless `new_blocks` more blocks fit the memory budget.
   void checkRoomForBlocks(size_t new_blocks, const char* what) const;
+  void touch();  ///< a new revision()
 
   MapOptions options_;
   GridGeometry geometry_;
   BlockGrid<Block> grid_;
   size_t num_cells_ = 0;
   size_t stats_bytes_ = 0;  ///< statsBytes() summed over the blocks
+  uint64_t revision_ = 0;
   Scratch scratch_;
 };
 

@@ -22,6 +22,10 @@ double parseReal(const std::string& option, const std::string& text, bool allow_
 /// An integer in [min_value, max_value].
 int64_t parseInteger(const std::string& option, const std::string& text, int64_t min_value,
                      int64_t max_value);
+/// The integers of a comma-separated list, each in [min_value, max_value]; a value given
+/// twice or an empty list is an error.
+std::vector<int64_t> parseIntegerList(const std::string& option, const std::string& text,
+                                      int64_t min_value, int64_t max_value);
 /// true/yes/1 or false/no/0, any case (the words MRPT's read_bool understands alike).
 bool parseBool(const std::string& option, const std::string& text);
 

@@ -1,4 +1,4 @@
-#include "csv_table.h"
+#include "ndtom_apps/csv_table.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
-namespace ndtom::eval {
+namespace ndtom::apps {
 
 CsvCell::CsvCell(double v) {
   char buffer[32];
@@ -51,4 +51,4 @@ void CsvTable::write(const std::string& path) const {
   if (!out) throw std::runtime_error("cannot write " + path);
 }
 
-}  // namespace ndtom::eval
+}  // namespace ndtom::apps

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace ndtom::eval {
+namespace ndtom::apps {
 
 /// One CSV field, from text or a number.
 struct CsvCell {
@@ -36,4 +36,4 @@ class CsvTable {
   std::vector<std::vector<std::string>> rows_;
 };
 
-}  // namespace ndtom::eval
+}  // namespace ndtom::apps

@@ -1,4 +1,4 @@
-#include "line_plot.h"
+#include "ndtom_apps/line_plot.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
-namespace ndtom::eval {
+namespace ndtom::apps {
 
 namespace {
 
@@ -161,4 +161,4 @@ void writeLinePlot(const std::string& path, const PlotAxes& axes,
     throw std::runtime_error("cannot write " + path);
 }
 
-}  // namespace ndtom::eval
+}  // namespace ndtom::apps

@@ -2,11 +2,12 @@
 // coloured line with markers per series, a legend to the right.
 #pragma once
 
+#include <limits>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
-namespace ndtom::eval {
+namespace ndtom::apps {
 
 struct PlotSeries {
   std::string label;
@@ -22,17 +23,8 @@ struct PlotAxes {
   bool log_y = false;  ///< logarithmic y axis (all y must be > 0)
 };
 
-/// Colours used for the same method in every figure.
-namespace colors {
-inline const cv::Scalar kRecursive{200, 90, 30};  // blue
-inline const cv::Scalar kNdtOm{40, 150, 40};      // green
-inline const cv::Scalar kEr{40, 40, 210};         // red
-inline const cv::Scalar kBatch{60, 60, 60};       // grey
-inline const cv::Scalar kOther{0, 140, 230};      // orange
-}  // namespace colors
-
 /// Draws the plot and writes a PNG; throws std::runtime_error if the file cannot be written.
 void writeLinePlot(const std::string& path, const PlotAxes& axes,
                    const std::vector<PlotSeries>& series);
 
-}  // namespace ndtom::eval
+}  // namespace ndtom::apps

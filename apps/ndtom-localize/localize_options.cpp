@@ -1,0 +1,300 @@
+#include "localize_options.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "ndtom_apps/option_values.h"
+
+namespace ndtom::localizer {
+namespace {
+
+using apps::parseInteger;
+using apps::parseReal;
+using apps::UsageError;
+
+using Handler = std::function<void(LocalizeOptions&, const std::string& value)>;
+
+struct OptionSpec {
+  bool takes_value;
+  Handler handle;
+};
+
+std::vector<int> parseLevels(const std::string& text) {
+  std::vector<int> levels;
+  for (const std::string& item : apps::splitList(text))
+    levels.push_back(int(parseInteger("--levels", item, 1, 1024)));
+  return levels;
+}
+
+ndtom::io::PoseFormat poseFormatFromName(const std::string& option, const std::string& name) {
+  if (name == "auto") return ndtom::io::PoseFormat::Auto;
+  if (name == "kitti") return ndtom::io::PoseFormat::Kitti;
+  if (name == "tum") return ndtom::io::PoseFormat::Tum;
+  throw UsageError(option + ": expected auto, kitti or tum, got '" + name + "'");
+}
+
+const std::map<std::string, OptionSpec>& optionTable() {
+  using O = LocalizeOptions;
+  static const std::map<std::string, OptionSpec> table = {
+      {"-o", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
+      {"--output", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
+      {"--format",
+       {true, [](O& o, const std::string& v) { o.format = mapper::inputFormatFromName(v); }}},
+      {"--poses", {true, [](O& o, const std::string& v) { o.poses_file = v; }}},
+      {"--pose-format",
+       {true, [](O& o, const std::string& v) { o.pose_format = poseFormatFromName("--pose-format", v); }}},
+      {"--max-scans",
+       {true,
+        [](O& o, const std::string& v) {
+          o.max_scans = size_t(parseInteger("--max-scans", v, 1, int64_t(1) << 40));
+        }}},
+      {"--skip",
+       {true,
+        [](O& o, const std::string& v) {
+          o.skip = size_t(parseInteger("--skip", v, 0, int64_t(1) << 40));
+        }}},
+      {"--decimation",
+       {true,
+        [](O& o, const std::string& v) {
+          o.decimation = uint32_t(parseInteger("--decimation", v, 1, 1000000));
+        }}},
+      {"--initial",
+       {true, [](O& o, const std::string& v) { o.tracking.initial = parsePose("--initial", v); }}},
+      {"--relocalize",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.relocalize_after = int(parseInteger("--relocalize", v, 1, 1000000));
+        }}},
+      {"--global-every-scan",
+       {false, [](O& o, const std::string&) { o.tracking.global_every_scan = true; }}},
+      {"--recovery-radius",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.recovery_radius = parseReal("--recovery-radius", v);
+          if (!(o.tracking.recovery_radius >= 0 && o.tracking.recovery_radius <= 100))
+            throw UsageError("--recovery-radius = " + v + ": must be in [0, 100] m");
+        }}},
+      {"--search-step",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.global.position_step = parseReal("--search-step", v);
+        }}},
+      {"--search-yaw-step",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.global.yaw_step_deg = parseReal("--search-yaw-step", v);
+        }}},
+      {"--reference", {true, [](O& o, const std::string& v) { o.reference_file = v; }}},
+      {"--reference-format",
+       {true, [](O& o, const std::string& v) { o.reference_format = poseFormatFromName("--reference-format", v); }}},
+      {"--method",
+       {true,
+        [](O& o, const std::string& v) {
+          try {
+            o.tracking.registration.method = ndtom::registrationMethodFromString(v);
+          } catch (const std::invalid_argument&) {
+            throw UsageError("--method: expected p2d or d2d, got '" + v + "'");
+          }
+        }}},
+      {"--levels", {true, [](O& o, const std::string& v) { o.tracking.registration.level_factors = parseLevels(v); }}},
+      {"--min-range",
+       {true, [](O& o, const std::string& v) { o.tracking.registration.min_range = parseReal("--min-range", v); }}},
+      {"--max-range",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.registration.max_range = parseReal("--max-range", v, /*allow_infinity=*/true);
+        }}},
+      {"--max-points",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.registration.max_points = size_t(parseInteger("--max-points", v, 10, 100000000));
+        }}},
+      {"--max-iterations",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.registration.max_iterations = int(parseInteger("--max-iterations", v, 1, 1000));
+        }}},
+      {"--outlier-ratio",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.registration.outlier_ratio = parseReal("--outlier-ratio", v);
+        }}},
+      {"--min-matched-fraction",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.registration.min_matched_fraction = parseReal("--min-matched-fraction", v);
+        }}},
+      {"--max-free-fraction",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.registration.max_free_fraction = parseReal("--max-free-fraction", v);
+        }}},
+      {"--planar", {false, [](O& o, const std::string&) { o.tracking.registration.planar = true; }}},
+      {"--threads",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.registration.threads = int(parseInteger("--threads", v, 1, 256));
+        }}},
+      {"--no-pictures", {false, [](O& o, const std::string&) { o.pictures = false; }}},
+      {"--image-width",
+       {true,
+        [](O& o, const std::string& v) {
+          o.image_width = int(parseInteger("--image-width", v, 400, 8000));
+        }}},
+      {"--quiet", {false, [](O& o, const std::string&) { o.quiet = true; }}},
+      {"-q", {false, [](O& o, const std::string&) { o.quiet = true; }}},
+      {"--help", {false, [](O& o, const std::string&) { o.help = true; }}},
+      {"-h", {false, [](O& o, const std::string&) { o.help = true; }}},
+  };
+  return table;
+}
+
+// The searches score and sort on pyramid levels: the nearest levels to their defaults
+// when --levels leaves those out.
+void fitSearchToLevels(LocalizeOptions& o) {
+  const std::vector<int>& levels = o.tracking.registration.level_factors;
+  if (levels.empty()) return;
+  auto nearest = [&](int wanted) {
+    return *std::min_element(levels.begin(), levels.end(), [&](int a, int b) {
+      return std::abs(a - wanted) < std::abs(b - wanted);
+    });
+  };
+  ndtom::GlobalSearchOptions& g = o.tracking.global;
+  g.scoring_level_factor = nearest(g.scoring_level_factor);
+  g.coarse_refinement_factor = nearest(g.coarse_refinement_factor);
+}
+
+void checkComplete(const LocalizeOptions& o) {
+  if (o.map_path.empty()) throw UsageError("missing MAP (see --help)");
+  if (o.input.empty()) throw UsageError("missing INPUT (see --help)");
+  if (o.prefix.empty()) throw UsageError("missing -o PREFIX (see --help)");
+  if (o.prefix.back() == '/')
+    throw UsageError("-o " + o.prefix + ": PREFIX names files, e.g. out/run, not a folder");
+  std::error_code ec;
+  if (!o.reference_file.empty() && !std::filesystem::is_regular_file(o.reference_file, ec))
+    throw UsageError("--reference " + o.reference_file + ": no such file");
+  try {
+    ndtom::validate(o.tracking.registration);
+    ndtom::validate(o.tracking.global);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+}
+
+}  // namespace
+
+Eigen::Isometry3d parsePose(const std::string& option, const std::string& text) {
+  std::istringstream in(text);
+  std::vector<double> v;
+  for (std::string item; in >> item;) v.push_back(parseReal(option, item));
+  if (v.size() != 7)
+    throw UsageError(option + " \"" + text + "\": expected 7 numbers, x y z qx qy qz qw");
+  try {
+    return ndtom::io::poseFromTranslationQuaternion(v.data(), v[3], v[4], v[5], v[6]);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(option + " \"" + text + "\": " + e.what());
+  }
+}
+
+LocalizeOptions parseLocalizeOptions(int argc, char** argv) {
+  LocalizeOptions o;
+  o.tracking.registration.threads =
+      int(std::max(1u, std::min(256u, std::thread::hardware_concurrency())));
+  const auto& table = optionTable();
+  std::vector<std::string> positional;
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i], value;
+    const size_t eq = arg.find('=');
+    const bool inline_value = arg.rfind("--", 0) == 0 && eq != std::string::npos;
+    if (inline_value) {
+      value = arg.substr(eq + 1);
+      arg = arg.substr(0, eq);
+    }
+    if (arg.size() < 2 || arg[0] != '-') {
+      positional.push_back(arg);
+      continue;
+    }
+    const auto spec = table.find(arg);
+    if (spec == table.end()) throw UsageError(arg + ": unknown option (see --help)");
+    if (!spec->second.takes_value && inline_value) throw UsageError(arg + ": takes no value");
+    if (spec->second.takes_value && !inline_value) {
+      if (i + 1 >= argc) throw UsageError(arg + ": missing value");
+      value = argv[++i];
+    }
+    spec->second.handle(o, value);
+  }
+  if (positional.size() > 2) throw UsageError("more than MAP and INPUT: '" + positional[2] + "'");
+  if (positional.size() > 0) o.map_path = positional[0];
+  if (positional.size() > 1) o.input = positional[1];
+  fitSearchToLevels(o);
+  if (!o.help) checkComplete(o);
+  return o;
+}
+
+std::string helpText() {
+  return
+      "ndtom-localize: the pose of every scan of a log in a saved NDT-OM, by NDT scan-to-map\n"
+      "registration (P2D or D2D, coarse to fine over the map's exact coarsenings).\n"
+      "\n"
+      "Usage: ndtom-localize MAP INPUT -o PREFIX [--initial \"x y z qx qy qz qw\"] [options]\n"
+      "\n"
+      "MAP: a .ndtom or .ndtommap written by ndtom-map.\n"
+      "INPUT: what ndtom-map reads (rawlog, simplemap, TUM RGB-D folder, PCD folder); a PCD\n"
+      "  folder needs no poses.txt (times.txt gives the time stamps if present). Points are\n"
+      "  taken in the frame of their sensor (PCD, TUM) or robot (rawlog, simplemap).\n"
+      "  --format F                rawlog|simplemap|tum|pcd (default: told from the path)\n"
+      "  --poses FILE              the input's poses where ndtom-map would need them\n"
+      "  --pose-format F           auto|kitti|tum\n"
+      "  --skip N                  leave out the first N scans\n"
+      "  --max-scans N             only the first N scans (after --skip)\n"
+      "  --decimation N            1 point in N of each scan (1)\n"
+      "\n"
+      "Localization: the first scan is registered from --initial (without it, searched for in\n"
+      "the whole map), each later one from a prediction: the log's odometry (rawlog), else\n"
+      "the last motion again (constant velocity). A failed registration is retried from the\n"
+      "last pose, then by a search around the prediction; a scan nothing places is lost.\n"
+      "  --initial \"x y z qx qy qz qw\"   the first scan's pose in the map (TUM order)\n"
+      "  --relocalize N            after N lost scans in a row, search the whole map (never)\n"
+      "  --global-every-scan       no tracking: search every scan in the whole map\n"
+      "  --recovery-radius M       the search around the prediction: x, y within M m (4) and\n"
+      "                            yaw within 60 degrees\n"
+      "  --search-step M           x, y grid of the searches [m] (2)\n"
+      "  --search-yaw-step D       yaw grid of the searches [degrees] (30)\n"
+      "  --method p2d|d2d          points to map Gaussians, or the scan's own NDT (p2d)\n"
+      "  --levels 16,8,4,2         pyramid levels, coarse to fine, in map cells (16,8,4,2,1)\n"
+      "  --min-range M, --max-range M   scan points used, distance to the sensor [m] (0, inf)\n"
+      "  --max-points N            P2D: scan points per level at most (6000)\n"
+      "  --max-iterations N        Newton iterations per level (30)\n"
+      "  --outlier-ratio R         the score's outlier fraction, in (0, 1) (0.55)\n"
+      "  --min-matched-fraction F  verdict: matched part of the scan, in [0, 1] (0.4)\n"
+      "  --max-free-fraction F     verdict: scan share in open free space, at most (0.05)\n"
+      "  --planar                  only x, y and yaw change (2D)\n"
+      "  --threads N               threads; the result is the same for any (all cores)\n"
+      "\n"
+      "Accuracy, where the input's poses are a reference (PCD poses.txt, TUM ground truth,\n"
+      "simplemap) or one is given: error of each scan's pose, RMSE and largest.\n"
+      "  --reference FILE          KITTI (line i = scan i) or TUM (matched by time stamp)\n"
+      "  --reference-format F      auto|kitti|tum\n"
+      "\n"
+      "Output:\n"
+      "  -o, --output PREFIX       PREFIX.tum (t x y z qx qy qz qw per localized scan),\n"
+      "                            PREFIX.scans.csv (per scan: outcome, pose, error, time),\n"
+      "                            PREFIX.summary.json (per scan: levels, iterations, score,\n"
+      "                            matched fraction, outcome, error, time), PREFIX.top.png\n"
+      "                            (the path on the map, coloured by error if known)\n"
+      "  --no-pictures             skip the PNG\n"
+      "  --image-width W           picture width [px] (1200)\n"
+      "  -q, --quiet               no progress, no summary on stdout\n"
+      "  -h, --help                this text\n"
+      "\n"
+      "Example: ndtom-localize out/map.ndtom scans/ -o out/loc --initial \"0 0 0 0 0 0 1\"\n"
+      "         ndtom-localize out/map.ndtom scans/ -o out/loc --relocalize 3   (no start pose)\n";
+}
+
+}  // namespace ndtom::localizer

@@ -1,0 +1,103 @@
+// ndtom-localize: the pose of every scan of a log in a saved NDT-OM, by NDT scan-to-map
+// registration. Exit code 0 on success, 1 for bad input data or a failed write, 2 for a bad
+// command line.
+#include <chrono>
+#include <cstdio>
+
+#include "localize_options.h"
+#include "localize_outputs.h"
+#include "map_file.h"
+#include "ndtom_apps/process_memory.h"
+#include "ndtom_apps/run_program.h"
+#include "tracking.h"
+#include "trajectory_poses.h"
+
+using namespace ndtom::localizer;
+using ndtom::mapper::InputError;
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool hasOccupiedGaussian(const ndtom::NdtMap& map) {
+  bool found = false;
+  map.forEachCell([&](const ndtom::CellView& c) {
+    found = found || (c.stats && c.stats->hasGaussian() &&
+                      (c.logodds > 0 || !map.options().occupancy.enabled));
+  });
+  return found;
+}
+
+int run(const LocalizeOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  ndtom::mapper::SourceSettings settings;
+  settings.input = o.input;
+  settings.format = o.format;
+  settings.poses_file = o.poses_file;
+  settings.pose_format = o.pose_format;
+  settings.decimation = o.decimation;
+  settings.max_scans = o.max_scans == 0 ? 0 : o.skip + o.max_scans;
+  settings.pose_time_tolerance = o.pose_time_tolerance;
+  settings.poses_optional = true;
+  auto source = ndtom::mapper::openScanSource(settings);
+  ndtom::mapper::OutputFiles out(o.prefix);
+
+  const auto load_start = std::chrono::steady_clock::now();
+  const ndtom::NdtMap map = loadMapFile(o.map_path);
+  const double load_seconds = secondsSince(load_start);
+  if (!hasOccupiedGaussian(map))
+    throw InputError(o.map_path + ": the map has no occupied cell with a Gaussian to localize in");
+  if (!o.quiet) std::fprintf(stderr, "ndtom-localize: %s\n", source->description().c_str());
+
+  std::optional<ndtom::mapper::TrajectoryPoses> reference;
+  if (!o.reference_file.empty())
+    reference.emplace(o.reference_file, o.reference_format, o.reference_time_tolerance);
+  const ReferenceLookup lookup = [&](size_t index,
+                                     double time) -> std::optional<Eigen::Isometry3d> {
+    if (!reference) return std::nullopt;
+    try {
+      return reference->poseFor(index, time);
+    } catch (const std::exception&) {  // no pose for this scan: no error for it
+      return std::nullopt;
+    }
+  };
+
+  ndtom::apps::Progress progress(!o.quiet);
+  for (size_t k = 0; k < o.skip; ++k)
+    if (!source->next()) throw InputError(o.input + ": fewer than --skip " + std::to_string(o.skip) + " scans");
+  const TrackingResult tracking = track(map, *source, o.tracking, lookup, progress, o.skip);
+  if (tracking.scans.empty()) throw InputError(o.input + ": no scans");
+  writeTrajectoryOutputs(map, tracking, o, out);
+
+  LocalizeSummary summary;
+  summary.options = &o;
+  summary.source_description = source->description();
+  summary.map_cells = map.numCells();
+  summary.map_gaussians = map.numGaussians();
+  summary.map_resolution = map.options().resolution;
+  summary.map_load_seconds = load_seconds;
+  summary.tracking = &tracking;
+  summary.files = out.files();
+  summary.files.push_back({"summary", o.prefix + ".summary.json"});
+  summary.peak_rss = ndtom::apps::peakRssBytes();
+  summary.total_seconds = secondsSince(start);
+  out.writeBytes("summary", ".summary.json", summaryJson(summary));
+  out.commit();
+  if (!o.quiet) std::fputs(summaryText(summary).c_str(), stdout);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return ndtom::apps::runProgram("ndtom-localize", [&] {
+    const LocalizeOptions options = parseLocalizeOptions(argc, argv);
+    if (options.help) {
+      std::fputs(helpText().c_str(), stdout);
+      return 0;
+    }
+    return run(options);
+  });
+}

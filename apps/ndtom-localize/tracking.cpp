@@ -1,0 +1,183 @@
+#include "tracking.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "motion_prediction.h"
+
+namespace ndtom::localizer {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using PoseKind = mapper::Scan::PoseKind;
+
+// The scan's pose from the first registration start that converges, or nothing.
+// Every attempt runs the whole pyramid: starting the prediction's registration on the fine
+// levels alone cost twice the instructions over scans 30-59 (29 G vs 14.5 G, callgrind) as
+// the fine levels then iterate longer and more scans need the retries.
+struct Attempt {
+  std::string name;
+  Eigen::Isometry3d start;
+};
+
+class Tracker {
+ public:
+  Tracker(const ndtom::NdtMap& map, const TrackingSettings& settings)
+      : map_(map),
+        settings_(settings),
+        global_(settings.global, settings.registration),
+        motion_(settings.initial.value_or(Eigen::Isometry3d::Identity())),
+        localized_(settings.initial.has_value()) {}
+
+  void localize(const mapper::Scan& scan, ScanRecord& record, TrackingResult& totals) {
+    const std::vector<Eigen::Vector3d> points = mapper::pointsInFrame(scan);
+    record.points = points.size();
+    const bool search_everywhere =
+        !localized_ || settings_.global_every_scan ||
+        (settings_.relocalize_after > 0 && lost_in_a_row_ >= settings_.relocalize_after);
+    if (!search_everywhere) {
+      record.prediction = predict(scan);
+      track(points, record);
+    }
+    if (record.outcome == Outcome::Lost && search_everywhere) {
+      ++totals.global_searches;
+      relocalize(points, record);
+    }
+    if (record.outcome == Outcome::Lost) {
+      ++lost_in_a_row_;
+      record.pose = record.prediction;
+    } else {
+      lost_in_a_row_ = 0;
+    }
+    if (record.pose) {
+      if (record.outcome == Outcome::Relocalized)
+        motion_ = ConstantVelocity(*record.pose);  // the velocity before is unknown
+      motion_.update(*record.pose, scan.time);
+    }
+    if (scan.pose_kind == PoseKind::Odometry) {
+      last_odometry_ = scan.frame_pose;
+      totals.odometry_used = true;
+    }
+  }
+
+ private:
+  Eigen::Isometry3d predict(const mapper::Scan& scan) const {
+    if (scan.pose_kind == PoseKind::Odometry && last_odometry_)
+      return motion_.lastPose() * (last_odometry_->inverse() * scan.frame_pose);
+    return motion_.predict(scan.time);
+  }
+
+  void track(const std::vector<Eigen::Vector3d>& points, ScanRecord& record) {
+    const Eigen::Isometry3d prediction = *record.prediction;
+    for (const Attempt& a :
+         {Attempt{"prediction", prediction}, Attempt{"last pose", motion_.lastPose()}}) {
+      if (a.name != "prediction" && a.start.isApprox(prediction)) continue;  // nothing new
+      ++record.registrations;
+      try {
+        record.result = global_.registration().align(map_, points, a.start);
+      } catch (const std::invalid_argument& e) {  // no usable point: nothing will place it
+        record.result = ndtom::RegistrationResult{};
+        record.result.failure = e.what();
+        return;
+      }
+      if (record.result.converged) {
+        accept(record, a.name == "prediction" ? Outcome::Tracked : Outcome::Recovered, a.name);
+        return;
+      }
+    }
+    const ndtom::GlobalLocalizationResult search = global_.searchAround(
+        map_, points, prediction, settings_.recovery_radius, settings_.recovery_yaw_deg);
+    record.registrations += int(search.refined + search.fully_refined);
+    if (search.found) {
+      record.result = search.best;
+      accept(record, Outcome::Recovered, "local search");
+    } else {
+      record.result.failure += "; search around the prediction: " + search.failure;
+    }
+  }
+
+  void relocalize(const std::vector<Eigen::Vector3d>& points, ScanRecord& record) {
+    ndtom::GlobalLocalizationResult search;
+    try {
+      search = global_.localize(map_, points);
+    } catch (const std::invalid_argument& e) {
+      record.result.failure = e.what();
+      return;
+    }
+    record.registrations += int(search.refined + search.fully_refined);
+    if (!search.found) {
+      record.result.failure = "global localization: " + search.failure;
+      return;
+    }
+    record.result = search.best;
+    accept(record, Outcome::Relocalized, "global search");
+    localized_ = true;
+  }
+
+  void accept(ScanRecord& record, Outcome outcome, const std::string& found_by) {
+    record.outcome = outcome;
+    record.found_by = found_by;
+    record.pose = record.result.pose;
+  }
+
+  const ndtom::NdtMap& map_;
+  const TrackingSettings& settings_;
+  ndtom::GlobalLocalizer global_;  // holds the registration (and its pyramid) for all uses
+  ConstantVelocity motion_;
+  std::optional<Eigen::Isometry3d> last_odometry_;
+  bool localized_;
+  int lost_in_a_row_ = 0;
+};
+
+}  // namespace
+
+const char* toString(Outcome outcome) {
+  switch (outcome) {
+    case Outcome::Tracked:
+      return "tracked";
+    case Outcome::Recovered:
+      return "recovered";
+    case Outcome::Relocalized:
+      return "relocalized";
+    case Outcome::Lost:
+      return "lost";
+  }
+  return "?";
+}
+
+size_t TrackingResult::count(Outcome outcome) const {
+  size_t n = 0;
+  for (const ScanRecord& s : scans) n += s.outcome == outcome;
+  return n;
+}
+
+TrackingResult track(const ndtom::NdtMap& map, mapper::ScanSource& source,
+                     const TrackingSettings& settings, const ReferenceLookup& reference,
+                     apps::Progress& progress, size_t already_read) {
+  const auto start = Clock::now();
+  TrackingResult out;
+  Tracker tracker(map, settings);
+  progress.start("localizing", source.size() - std::min(source.size(), already_read));
+  size_t points_done = 0;
+  while (auto scan = source.next()) {
+    const auto scan_start = Clock::now();
+    ScanRecord record;
+    record.index = already_read + out.scans.size();
+    record.name = scan->name;
+    record.time = scan->time;
+    if (scan->pose_kind == PoseKind::Reference)
+      record.reference = scan->frame_pose;
+    else if (reference)
+      record.reference = reference(record.index, record.time);
+    tracker.localize(*scan, record, out);
+    record.seconds = std::chrono::duration<double>(Clock::now() - scan_start).count();
+    points_done += record.points;
+    out.scans.push_back(std::move(record));
+    progress.update(out.scans.size(), points_done);
+  }
+  progress.finish();
+  out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return out;
+}
+
+}  // namespace ndtom::localizer

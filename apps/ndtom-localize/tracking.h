@@ -1,0 +1,73 @@
+// The localization loop: every scan of a source registered in the map. Each scan starts from
+// a prediction (the log's odometry where it has some, else constant velocity); a failed
+// registration is retried from the last pose, then by a search around the prediction; a
+// scan none of that places is lost. Without an initial pose, and after a run of lost scans
+// if asked, the scan is searched for in the whole map (global localization).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ndtom/global_localization.h"
+#include "ndtom/registration.h"
+#include "ndtom_apps/progress.h"
+#include "scan_source.h"
+
+namespace ndtom::localizer {
+
+struct TrackingSettings {
+  ndtom::RegistrationOptions registration;
+  ndtom::GlobalSearchOptions global;
+  std::optional<Eigen::Isometry3d> initial;  ///< none: global localization of the first scan
+  int relocalize_after = 0;       ///< lost scans in a row before a global search; 0: never
+  bool global_every_scan = false;  ///< no tracking: every scan searched for in the whole map
+  double recovery_radius = 4.0;   ///< m, of the search around the prediction
+  double recovery_yaw_deg = 60;   ///< ± around the prediction's yaw
+};
+
+/// How a scan's pose was found.
+enum class Outcome { Tracked, Recovered, Relocalized, Lost };
+const char* toString(Outcome outcome);
+
+struct ScanRecord {
+  size_t index = 0;
+  std::string name;
+  double time = 0;
+  size_t points = 0;  ///< read (after decimation)
+  Outcome outcome = Outcome::Lost;
+  /// What found the pose: "prediction", "last pose", "local search", "global search" or "".
+  std::string found_by;
+  int registrations = 0;  ///< runs of the registration (a search counts its refinements)
+  std::optional<Eigen::Isometry3d> prediction;  ///< none before the first pose is known
+  ndtom::RegistrationResult result;             ///< of the registration that decided
+  /// The pose kept: the registration's if it converged, else the prediction (if any).
+  std::optional<Eigen::Isometry3d> pose;
+  std::optional<Eigen::Isometry3d> reference;  ///< from the input or --reference
+  double seconds = 0;                          ///< localizing this scan (reading excluded)
+};
+
+struct TrackingResult {
+  std::vector<ScanRecord> scans;
+  double seconds = 0;  ///< wall time of the whole loop (reading included)
+  size_t count(Outcome outcome) const;
+  size_t localized() const { return scans.size() - count(Outcome::Lost); }
+  bool odometry_used = false;
+  size_t global_searches = 0;
+};
+
+/// A pose for a scan from elsewhere (a --reference trajectory), by scan index and time.
+using ReferenceLookup =
+    std::function<std::optional<Eigen::Isometry3d>(size_t index, double time)>;
+
+/// Localizes every scan of `source` in `map` (`already_read` of them were taken before: left
+/// out, as --skip does). The reference is the input's own trajectory
+/// where it is one (Scan::PoseKind::Reference), else `reference` if given. Throws
+/// mapper::InputError for unreadable data.
+TrackingResult track(const ndtom::NdtMap& map, mapper::ScanSource& source,
+                     const TrackingSettings& settings, const ReferenceLookup& reference,
+                     apps::Progress& progress, size_t already_read = 0);
+
+}  // namespace ndtom::localizer

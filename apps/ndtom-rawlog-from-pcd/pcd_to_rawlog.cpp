@@ -1,0 +1,170 @@
+#include "pcd_to_rawlog.h"
+
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+
+#include "ndtom_apps/option_values.h"
+#include "output_files.h"
+#include "scan_source.h"
+
+namespace fs = std::filesystem;
+
+namespace ndtom::rawlog {
+namespace {
+
+using mapper::InputError;
+
+mrpt::poses::CPose3D toPose(const Eigen::Isometry3d& t) {
+  mrpt::math::CMatrixDouble44 m;
+  m.asEigen() = t.matrix();
+  return mrpt::poses::CPose3D(m);
+}
+
+// KITTI pose files carry no time: times.txt beside them does, one line per scan. Without
+// it scan i is at i seconds.
+std::vector<double> scanTimes(const std::string& folder, size_t scans) {
+  const fs::path path = fs::path(folder) / "times.txt";
+  std::vector<double> times;
+  if (!fs::exists(path)) {
+    for (size_t i = 0; i < scans; ++i) times.push_back(double(i));
+    return times;
+  }
+  std::ifstream in(path);
+  std::string line;
+  for (size_t number = 1; std::getline(in, line); ++number) {
+    line = apps::trim(line);
+    if (line.empty() || line[0] == '#') continue;
+    try {
+      times.push_back(apps::parseReal(path.string(), line));
+    } catch (const std::exception&) {
+      throw InputError(path.string() + ":" + std::to_string(number) + ": not a time stamp: '" +
+                       line + "'");
+    }
+  }
+  if (times.size() < scans)
+    throw InputError(path.string() + ": " + std::to_string(times.size()) + " time stamps for " +
+                     std::to_string(scans) + " scans (line i is the time of the i-th scan)");
+  return times;
+}
+
+void checkRange(const char* option, const ScanRange& r, size_t scans, const std::string& folder) {
+  if (r.last >= scans)
+    throw apps::UsageError(std::string(option) + " " + std::to_string(r.first) + ":" +
+                           std::to_string(r.last) + ": " + folder + " has scans 0 to " +
+                           std::to_string(scans - 1));
+}
+
+}  // namespace
+
+mrpt::obs::CObservationPointCloud::Ptr pointCloudObservation(
+    const std::vector<Eigen::Vector3d>& points, double time) {
+  auto cloud = mrpt::maps::CSimplePointsMap::Create();
+  cloud->reserve(points.size());
+  for (const Eigen::Vector3d& p : points)
+    if (p.allFinite()) cloud->insertPointFast(float(p.x()), float(p.y()), float(p.z()));
+  auto obs = mrpt::obs::CObservationPointCloud::Create();
+  obs->pointcloud = cloud;
+  obs->sensorLabel = "LIDAR";
+  obs->timestamp = mrpt::Clock::fromDouble(time);
+  obs->sensorPose = mrpt::poses::CPose3D();
+  return obs;
+}
+
+mrpt::obs::CActionRobotMovement3D odometryAction(const mrpt::poses::CPose3D& increment,
+                                                 const OdometryNoise& noise, std::mt19937_64& rng,
+                                                 double time) {
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  const double sa = noise.std_deg * M_PI / 180;
+  // The pose PDF samples (x, y, z, yaw, pitch, roll) additively: add the noise the same way.
+  mrpt::math::CVectorFixedDouble<6> v;
+  for (int i = 0; i < 6; ++i) v[i] = increment[i] + (i < 3 ? noise.std_xyz : sa) * gauss(rng);
+  mrpt::math::CMatrixDouble66 cov;
+  cov.setZero();
+  for (int i = 0; i < 6; ++i) cov(i, i) = i < 3 ? noise.std_xyz * noise.std_xyz : sa * sa;
+
+  mrpt::obs::CActionRobotMovement3D action;
+  action.estimationMethod = mrpt::obs::CActionRobotMovement3D::emOdometry;
+  action.poseChange = mrpt::poses::CPose3DPDFGaussian(
+      mrpt::poses::CPose3D(v[0], v[1], v[2], v[3], v[4], v[5]), cov);
+  action.rawOdometryIncrementReading = action.poseChange.mean;
+  action.timestamp = mrpt::Clock::fromDouble(time);
+  return action;
+}
+
+ConversionReport convertFolder(const RawlogOptions& o, apps::Progress& progress) {
+  mapper::SourceSettings settings;
+  settings.input = o.folder;
+  settings.format = mapper::InputFormat::PcdFolder;
+  settings.decimation = o.decimation;
+  auto source = mapper::openPcdFolder(settings);
+  const size_t scans = source->size();
+  const ScanRange log = o.log_scans.value_or(ScanRange{0, scans - 1});
+  checkRange("--scans", log, scans, o.folder);
+  if (o.map_scans) checkRange("--map-scans", *o.map_scans, scans, o.folder);
+  const size_t needed = std::max(log.last, o.map_scans ? o.map_scans->last : 0) + 1;
+  const std::vector<double> times = scanTimes(o.folder, scans);
+
+  mapper::OutputFiles out(o.prefix);
+  mrpt::io::CFileOutputStream rawlog_file;
+  if (!rawlog_file.open(out.stage("rawlog", ".rawlog")))
+    throw std::runtime_error(o.prefix + ".rawlog: cannot write");
+  auto rawlog = mrpt::serialization::archiveFrom(rawlog_file);
+  std::string ground_truth =
+      "# time x y z yaw pitch roll (s, m, rad): the scans' reference poses\n";
+  mrpt::maps::CSimpleMap simplemap;
+
+  ConversionReport report;
+  std::mt19937_64 rng(o.noise.seed);
+  std::optional<mrpt::poses::CPose3D> previous;
+  progress.start("reading", needed);
+  for (size_t i = 0; i < needed; ++i) {
+    const std::optional<mapper::Scan> scan = source->next();
+    if (!scan) throw InputError(o.folder + ": fewer scans than listed");
+    const mrpt::poses::CPose3D pose = toPose(scan->frame_pose);
+    const auto obs = pointCloudObservation(mapper::pointsInFrame(*scan), times[i]);
+    if (log.contains(i)) {
+      const mrpt::poses::CPose3D increment = previous ? pose - *previous : mrpt::poses::CPose3D();
+      mrpt::obs::CActionCollection actions;
+      actions.insert(odometryAction(increment, o.noise, rng, times[i]));
+      mrpt::obs::CSensoryFrame frame;
+      frame.insert(obs);
+      rawlog << actions << frame;
+      previous = pose;
+      char line[200];
+      std::snprintf(line, sizeof(line), "%.6f %.6f %.6f %.6f %.9f %.9f %.9f\n", times[i], pose.x(),
+                    pose.y(), pose.z(), pose.yaw(), pose.pitch(), pose.roll());
+      ground_truth += line;
+      ++report.log_scans;
+      report.log_points += obs->pointcloud->size();
+    }
+    if (o.map_scans && o.map_scans->contains(i)) {
+      auto frame = mrpt::obs::CSensoryFrame::Create();
+      frame->insert(obs);
+      simplemap.insert(mrpt::poses::CPose3DPDFGaussian::Create(pose), frame);
+      ++report.map_scans;
+      report.map_points += obs->pointcloud->size();
+    }
+    progress.update(i + 1, report.log_points + report.map_points);
+  }
+  rawlog_file.close();
+  out.writeBytes("ground truth", ".gt.txt", ground_truth);
+  if (o.map_scans && !simplemap.saveToFile(out.stage("simplemap", ".simplemap")))
+    throw std::runtime_error(o.prefix + ".simplemap: cannot write");
+  out.commit();
+  for (const auto& f : out.files()) report.files.push_back(f.path);
+  return report;
+}
+
+}  // namespace ndtom::rawlog

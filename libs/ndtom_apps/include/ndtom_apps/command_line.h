@@ -1,0 +1,61 @@
+// The command lines of the programs: "--flag" alone or "--option VALUE", strictly, and the
+// systems, modes, ... a program names in a list ("--systems a,b").
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ndtom_apps/option_values.h"
+
+namespace ndtom::apps {
+
+/// Walks argv[1..argc-1]: `flag(name)` for each argument listed in `flags`, else
+/// `option(name, value)` with the argument after it. Throws UsageError
+/// "NAME: missing value (see --help)" when none follows; the callbacks throw UsageError for
+/// names they do not know.
+void forEachArgument(int argc, const char* const argv[], const std::vector<std::string>& flags,
+                     const std::function<void(const std::string& name)>& flag,
+                     const std::function<void(const std::string& name, const std::string& value)>&
+                         option);
+
+/// The UsageError for an argument no program option has: "unknown option 'NAME' (see --help)".
+UsageError unknownOption(const std::string& name);
+
+/// One name a list option accepts and what it stands for.
+template <typename T>
+struct NamedValue {
+  const char* name;
+  T value;
+};
+
+/// The values a comma-separated list names, in its order. Throws UsageError for a name not in
+/// `table`, a name given twice, or an empty list.
+template <typename T, size_t N>
+std::vector<T> parseNamedList(const std::string& option, const std::string& text,
+                              const NamedValue<T> (&table)[N]) {
+  std::vector<T> out;
+  for (const std::string& item : splitList(text)) {
+    const auto* named = std::find_if(std::begin(table), std::end(table),
+                                     [&](const NamedValue<T>& n) { return item == n.name; });
+    if (named == std::end(table))
+      throw UsageError(option + ": unknown name '" + item + "' (see --help)");
+    if (std::find(out.begin(), out.end(), named->value) != out.end())
+      throw UsageError(option + ": " + item + " is listed twice");
+    out.push_back(named->value);
+  }
+  if (out.empty()) throw UsageError(option + ": empty list");
+  return out;
+}
+
+/// The name of `value` in `table`; "?" if it has none.
+template <typename T, size_t N>
+const char* nameOf(T value, const NamedValue<T> (&table)[N]) {
+  for (const NamedValue<T>& n : table)
+    if (n.value == value) return n.name;
+  return "?";
+}
+
+}  // namespace ndtom::apps

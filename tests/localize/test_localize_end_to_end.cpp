@@ -1,0 +1,205 @@
+// ndtom-localize as a user runs it, on the lidar scans shipped with the tests: ndtom-map
+// builds a map of scans 0-4, the program localizes scans 5-9 (a folder without poses.txt)
+// from a start 0.5 m and 5° off; every scan must come within 5 cm and 0.5° of its reference
+// pose (poses.txt, which the program never sees).
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <iomanip>
+
+#include "mapper/mapper_run.h"
+#include "ndtom_io/pose_file.h"
+
+using namespace mapper_test;
+
+namespace {
+
+const std::string kLocalize = NDTOM_LOCALIZE_EXE;
+
+// scans 5-9 of the shipped subset with their times, no poses.
+void copyScans(const TempDir& dir, const fs::path& folder) {
+  fs::create_directories(folder);
+  std::ifstream times(kLidar + "/times.txt");
+  std::ofstream out((folder / "times.txt").string());
+  std::string line;
+  for (int i = 0; i < 10 && std::getline(times, line); ++i) {
+    if (i < 5) continue;
+    fs::copy_file(kLidar + "/full" + std::to_string(i) + ".pcd",
+                  folder / ("full" + std::to_string(i) + ".pcd"));
+    out << line << "\n";
+  }
+  (void)dir;
+}
+
+std::string tumPose(const Eigen::Isometry3d& p) {
+  const Eigen::Quaterniond q(p.linear());
+  std::ostringstream s;
+  s << std::setprecision(12) << p.translation().x() << " " << p.translation().y() << " "
+    << p.translation().z() << " " << q.x() << " " << q.y() << " " << q.z() << " " << q.w();
+  return s.str();
+}
+
+struct Fixture {
+  TempDir dir;
+  std::vector<ndtom::io::StampedPose> reference = ndtom::io::readPoseFile(kLidar + "/poses.txt");
+  std::vector<double> times;
+  std::string map;
+  fs::path scans;
+
+  Fixture() {
+    // The map: ndtom-map on scans 0-4 (with their poses).
+    const ProgramRun mapped =
+        runMapper(mapper_test::quoted(kLidar) + " --max-scans 5 --max-range 30 --no-pictures -q -o " +
+                      mapper_test::quoted((dir / "map").string()),
+                  dir);
+    EXPECT_EQ(mapped.exit_code, 0) << mapped.err;
+    map = (dir / "map.ndtom").string();
+    scans = dir / "scans";
+    copyScans(dir, scans);
+    std::ifstream in(kLidar + "/times.txt");
+    for (double t; in >> t;) times.push_back(t);
+  }
+
+  Eigen::Isometry3d offStart() const {
+    Eigen::Isometry3d start = reference[5].pose;
+    start.translation() += Eigen::Vector3d(0.4, -0.3, 0.0);
+    start.linear() = Eigen::AngleAxisd(5 * M_PI / 180, Eigen::Vector3d::UnitZ()) * start.linear();
+    return start;
+  }
+};
+
+}  // namespace
+
+TEST(LocalizeEndToEnd, TracksHeldOutScansToTheirReferencePoses) {
+  Fixture f;
+  for (const std::string& map : {f.map, (f.dir / "map.ndtommap").string()}) {
+    for (const char* method : {"p2d", "d2d"}) {
+      const std::string prefix = (f.dir / (std::string("loc-") + method)).string();
+      const ProgramRun run = runExecutable(
+          kLocalize,
+          mapper_test::quoted(map) + " " + mapper_test::quoted(f.scans.string()) + " -o " + mapper_test::quoted(prefix) +
+              " --threads 2 --method " + method + " --initial " + mapper_test::quoted(tumPose(f.offStart())),
+          f.dir);
+      ASSERT_EQ(run.exit_code, 0) << run.err;
+      EXPECT_NE(run.out.find("localized 5 of 5 scans (0 lost)"), std::string::npos) << run.out;
+      EXPECT_NE(run.err.find("PCD folder"), std::string::npos);
+      const auto estimated = ndtom::io::readPoseFile(prefix + ".tum", ndtom::io::PoseFormat::Tum);
+      ASSERT_EQ(estimated.size(), 5u);
+      for (size_t k = 0; k < 5; ++k) {
+        const Eigen::Isometry3d& truth = f.reference[5 + k].pose;
+        const Eigen::Isometry3d error = truth.inverse() * estimated[k].pose;
+        EXPECT_LT(error.translation().norm(), 0.05) << method << " scan " << 5 + k;
+        EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle() * 180 / M_PI, 0.5) << method;
+        EXPECT_NEAR(estimated[k].time, f.times[5 + k], 1e-6);  // from times.txt
+      }
+      const std::string json = readText(prefix + ".summary.json");
+      EXPECT_EQ(jsonNumber(json, "scans"), 5);
+      EXPECT_EQ(jsonNumber(json, "tracked") + jsonNumber(json, "recovered"), 5);
+      EXPECT_EQ(jsonNumber(json, "resolution", "per_scan"), 3.2);  // the coarsest level first
+      EXPECT_TRUE(fs::exists(prefix + ".top.png"));
+      const std::string csv = readText(prefix + ".scans.csv");
+      EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6) << csv;  // header + 5 scans
+      EXPECT_NE(csv.find("\n4,"), std::string::npos) << csv;  // the folder's last scan
+    }
+  }
+}
+
+TEST(LocalizeEndToEnd, ScansOutsideTheMapAreReportedNotTracked) {
+  Fixture f;
+  Eigen::Isometry3d far = f.offStart();
+  far.translation() += Eigen::Vector3d(400, 0, 0);
+  const std::string prefix = (f.dir / "far").string();
+  const ProgramRun run =
+      runExecutable(kLocalize,
+                    mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) + " -o " + mapper_test::quoted(prefix) +
+                        " --no-pictures --initial " + mapper_test::quoted(tumPose(far)),
+                    f.dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("localized 0 of 5 scans (5 lost)"), std::string::npos) << run.out;
+  const std::string json = readText(prefix + ".summary.json");
+  EXPECT_EQ(jsonNumber(json, "lost"), 5);
+  EXPECT_NE(json.find("\"failure\": \"only"), std::string::npos);
+  EXPECT_NE(json.find("search around the prediction"), std::string::npos);
+  EXPECT_EQ(readText(prefix + ".tum"), "");  // no pose is claimed
+}
+
+TEST(LocalizeEndToEnd, WithoutAStartPoseTheFirstScanIsSearchedForAndErrorsReported) {
+  Fixture f;
+  // The reference for scans 5-9 (KITTI, line i = i-th scan of the folder).
+  const std::string reference = (f.dir / "reference.txt").string();
+  {
+    std::ifstream in(kLidar + "/poses.txt");
+    std::ofstream out(reference);
+    std::string line;
+    for (int i = 0; std::getline(in, line); ++i)
+      if (i >= 5) out << line << "\n";
+  }
+  const std::string prefix = (f.dir / "global").string();
+  const ProgramRun run = runExecutable(
+      kLocalize, mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
+                     " -o " + mapper_test::quoted(prefix) + " --reference " +
+                     mapper_test::quoted(reference),
+      f.dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("localized 5 of 5 scans (0 lost)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("1 found by global search"), std::string::npos) << run.out;
+  const std::string json = readText(prefix + ".summary.json");
+  EXPECT_EQ(jsonNumber(json, "relocalized"), 1);
+  EXPECT_EQ(jsonNumber(json, "scans", "accuracy"), 5);
+  EXPECT_LT(jsonNumber(json, "ate_rmse_m"), 0.05);
+  EXPECT_LT(jsonNumber(json, "rotation_max_deg"), 0.5);
+  EXPECT_NE(json.find("\"found_by\": \"global search\""), std::string::npos);
+}
+
+TEST(LocalizeEndToEnd, AKidnappedStartIsFoundAgainAfterLostScans) {
+  Fixture f;
+  Eigen::Isometry3d kidnapped = f.offStart();
+  kidnapped.translation() += Eigen::Vector3d(25, -15, 0);  // far beyond the local search
+  const std::string prefix = (f.dir / "kidnap").string();
+  const ProgramRun run = runExecutable(
+      kLocalize, mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
+                     " -o " + mapper_test::quoted(prefix) + " --relocalize 1 --initial " +
+                     mapper_test::quoted(tumPose(kidnapped)),
+      f.dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string json = readText(prefix + ".summary.json");
+  EXPECT_EQ(jsonNumber(json, "lost"), 1);  // the first scan, from the wrong start
+  EXPECT_EQ(jsonNumber(json, "relocalized"), 1);
+  EXPECT_EQ(jsonNumber(json, "localized"), 4);
+  const auto estimated = ndtom::io::readPoseFile(prefix + ".tum", ndtom::io::PoseFormat::Tum);
+  ASSERT_EQ(estimated.size(), 4u);  // lost scans have no line
+  for (size_t k = 0; k < 4; ++k)
+    EXPECT_LT((estimated[k].pose.translation() - f.reference[6 + k].pose.translation()).norm(),
+              0.05);
+}
+
+TEST(LocalizeEndToEnd, BadCommandLinesAndInputsFailCleanly) {
+  Fixture f;
+  const std::string start = " --initial " + mapper_test::quoted(tumPose(f.offStart()));
+  const std::string io = mapper_test::quoted(f.scans.string()) + " -o " + mapper_test::quoted((f.dir / "x").string());
+  struct Case {
+    std::string args;
+    int exit_code;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {mapper_test::quoted(f.map) + " " + io + " --relocalize 0", 2, "--relocalize"},
+      {mapper_test::quoted(f.map) + " " + io + " --reference-format xyz", 2, "--reference-format"},
+      {mapper_test::quoted(f.map) + " " + io + " --reference " +
+           mapper_test::quoted((f.dir / "no-such-poses.txt").string()), 2, "no-such-poses.txt"},
+      {mapper_test::quoted(f.map) + " " + io + " --initial '1 2 3'", 2, "expected 7 numbers"},
+      {mapper_test::quoted(f.map) + " " + io + start + " --method icp", 2, "--method"},
+      {mapper_test::quoted(f.map) + " " + io + start + " --levels 1,2", 2, "level_factors"},
+      {mapper_test::quoted(f.map) + " " + io + start + " --threads 0", 2, "--threads"},
+      {mapper_test::quoted((f.dir / "none.ndtom").string()) + " " + io + start, 1, "no such map file"},
+      {mapper_test::quoted(kLidar + "/full0.pcd") + " " + io + start, 1, "not a readable NDT-OM"},
+      {mapper_test::quoted(f.map) + " " + mapper_test::quoted((f.dir / "nothing").string()) + " -o x" + start, 2, "nothing"},
+  };
+  for (const Case& c : cases) {
+    const ProgramRun run = runExecutable(kLocalize, c.args, f.dir);
+    EXPECT_EQ(run.exit_code, c.exit_code) << c.args << "\n" << run.err;
+    EXPECT_NE(run.err.find(c.message), std::string::npos) << c.args << "\n" << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  }
+  EXPECT_FALSE(fs::exists(f.dir / "x.tum"));
+}

@@ -1,0 +1,336 @@
+// NdtRegistration end to end: known motions of synthetic scans, real lidar scans against
+// their reference poses (the shipped BALM subset), the verdict on scans that cannot match,
+// thread-count independence, the pyramid cache, and bad input.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <random>
+
+#include "core/synthetic_room.h"
+#include "ndtom/registration.h"
+#include "ndtom_io/pcd_reader.h"
+#include "ndtom_io/pose_file.h"
+
+using namespace ndtom;
+namespace room = ndtom::testing;
+using Eigen::Isometry3d;
+using Eigen::Vector3d;
+
+namespace {
+
+const double kDeg = M_PI / 180;
+const std::string kBalm = std::string(NDTOM_TEST_DATA_DIR) + "/balm-realworld";
+
+Isometry3d poseOf(const Vector3d& t, double angle, const Vector3d& axis) {
+  Isometry3d p = Isometry3d::Identity();
+  p.linear() = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+  p.translation() = t;
+  return p;
+}
+
+double translationError(const Isometry3d& a, const Isometry3d& b) {
+  return (a.translation() - b.translation()).norm();
+}
+double rotationErrorDeg(const Isometry3d& a, const Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() / kDeg;
+}
+
+// `world` points as the sensor at `pose` sees them.
+std::vector<Vector3d> inSensorFrame(const std::vector<Vector3d>& world, const Isometry3d& pose) {
+  std::vector<Vector3d> out;
+  for (const Vector3d& p : world) out.push_back(pose.inverse() * p);
+  return out;
+}
+
+// A noise-free room map and a noise-free scan of other samples of the same surfaces: the
+// score's maximum is the true pose, up to the sampling of the cells.
+struct SyntheticCase {
+  NdtMap map;
+  Isometry3d truth = poseOf(room::kRoomSensor, 0, Vector3d::UnitZ());
+  std::vector<Vector3d> scan;
+
+  SyntheticCase() : map(makeMap()) {
+    truth = poseOf(Vector3d(0.4, -0.3, 1.2), 7 * kDeg, Vector3d(0.2, -0.1, 1));
+    scan = inSensorFrame(room::sampleRoom(40000, 21, 0.0), truth);
+  }
+  static NdtMap makeMap() {
+    MapOptions o;
+    o.resolution = 0.2;
+    o.regularization.min_eigen_ratio = 1e-4;
+    NdtMap m(o);
+    m.insertScan(room::sampleRoom(400000, 1, 0.0), room::kRoomSensor);
+    return m;
+  }
+};
+
+struct RealCase {
+  NdtMap map;
+  std::vector<Isometry3d> poses;
+  std::vector<Vector3d> scan;  // scan kLeftOut, sensor frame, not in the map
+  static constexpr int kLeftOut = 5;
+
+  RealCase() : map(mapOptions()) {
+    for (const auto& p : io::readPoseFile(kBalm + "/poses.txt")) poses.push_back(p.pose);
+    for (int i = 0; i < 10; ++i) {
+      const auto cloud = io::readPcd(kBalm + "/full" + std::to_string(i) + ".pcd");
+      std::vector<Vector3d> sensor;
+      for (const Vector3d& p : cloud.points)
+        if (p.allFinite() && p.norm() > 0.5) sensor.push_back(p);
+      if (i == kLeftOut) {
+        scan = sensor;
+        continue;
+      }
+      std::vector<Vector3d> world;
+      for (const Vector3d& p : sensor) world.push_back(poses[i] * p);
+      map.insertScan(world, poses[i].translation());
+    }
+  }
+  static MapOptions mapOptions() {
+    MapOptions o;
+    o.resolution = 0.2;
+    o.insertion.max_range = 30;
+    return o;
+  }
+};
+
+const RealCase& realCase() {
+  static const RealCase c;
+  return c;
+}
+
+}  // namespace
+
+TEST(Registration, RecoversAKnownMotionOfASyntheticScan) {
+  const SyntheticCase c;
+  for (const auto method : {RegistrationMethod::P2D, RegistrationMethod::D2D}) {
+    RegistrationOptions o;
+    o.method = method;
+    o.level_factors = {4, 2, 1};
+    o.max_points = 40000;
+    o.translation_epsilon = 1e-6;
+    o.rotation_epsilon = 1e-6;
+    NdtRegistration registration(o);
+    const Isometry3d guess = c.truth * poseOf(Vector3d(0.25, -0.2, 0.1), 4 * kDeg, Vector3d(1, 1, 3));
+    const RegistrationResult r = registration.align(c.map, c.scan, guess);
+    EXPECT_TRUE(r.converged) << toString(method) << ": " << r.failure;
+    EXPECT_LT(translationError(r.pose, c.truth), 1e-4) << toString(method);
+    EXPECT_LT(rotationErrorDeg(r.pose, c.truth), 1e-3) << toString(method);
+    EXPECT_GT(r.matched_fraction, 0.95) << toString(method);
+  }
+}
+
+TEST(Registration, RealScanComesBackToItsReferencePose) {
+  const RealCase& c = realCase();
+  const Isometry3d& truth = c.poses[RealCase::kLeftOut];
+  for (const auto method : {RegistrationMethod::P2D, RegistrationMethod::D2D}) {
+    RegistrationOptions o;
+    o.method = method;
+    NdtRegistration registration(o);
+    for (const auto& [offset, angle] : {std::pair{Vector3d(1.0, -0.5, 0.1), 10 * kDeg},
+                                        std::pair{Vector3d(-2.0, 1.0, 0.0), -20 * kDeg}}) {
+      Isometry3d guess = truth;
+      guess.translation() += offset;
+      guess.linear() = Eigen::AngleAxisd(angle, Vector3d::UnitZ()) * truth.linear();
+      const RegistrationResult r = registration.align(c.map, c.scan, guess);
+      EXPECT_TRUE(r.converged) << toString(method) << ": " << r.failure;
+      EXPECT_LT(translationError(r.pose, truth), 0.02) << toString(method);
+      EXPECT_LT(rotationErrorDeg(r.pose, truth), 0.2) << toString(method);
+      ASSERT_EQ(r.levels.size(), 5u);
+      EXPECT_DOUBLE_EQ(r.levels.back().resolution, 0.2);
+      EXPECT_DOUBLE_EQ(r.levels.front().resolution, 3.2);
+      // The reported spread covers the error to the reference within a few sigma, and is
+      // not absurdly loose either.
+      EXPECT_LT((r.covariance.topLeftCorner<3, 3>().trace()), 0.01);
+      EXPECT_GT((r.covariance.topLeftCorner<3, 3>().trace()), 0);
+    }
+  }
+}
+
+TEST(Registration, ScanFarFromTheMapIsReportedAsFailed) {
+  const RealCase& c = realCase();
+  for (const auto method : {RegistrationMethod::P2D, RegistrationMethod::D2D}) {
+    RegistrationOptions o;
+    o.method = method;
+    NdtRegistration registration(o);
+    // 300 m away, or inside the map but turned 180° about a vertical axis.
+    Isometry3d far = c.poses[RealCase::kLeftOut];
+    far.translation() += Vector3d(300, 0, 0);
+    Isometry3d turned = c.poses[RealCase::kLeftOut];
+    turned.linear() = Eigen::AngleAxisd(M_PI, Vector3d::UnitZ()) * turned.linear();
+    for (const Isometry3d& guess : {far, turned}) {
+      const RegistrationResult r = registration.align(c.map, c.scan, guess);
+      const bool right = translationError(r.pose, c.poses[RealCase::kLeftOut]) < 0.1 &&
+                         rotationErrorDeg(r.pose, c.poses[RealCase::kLeftOut]) < 1;
+      EXPECT_TRUE(right || !r.converged) << toString(method) << ": a wrong pose reported good";
+      EXPECT_EQ(r.converged, r.failure.empty());
+    }
+  }
+}
+
+TEST(Registration, PlanarChangesOnlyXYAndYaw) {
+  const RealCase& c = realCase();
+  const Isometry3d& truth = c.poses[RealCase::kLeftOut];
+  RegistrationOptions o;
+  o.planar = true;
+  NdtRegistration registration(o);
+  Isometry3d guess = truth;
+  guess.translation() += Vector3d(0.8, -0.6, 0);  // planar: z, roll and pitch are known
+  guess.linear() = Eigen::AngleAxisd(8 * kDeg, Vector3d::UnitZ()) * truth.linear();
+  const RegistrationResult r = registration.align(c.map, c.scan, guess);
+  EXPECT_TRUE(r.converged) << r.failure;
+  EXPECT_LT((r.pose.translation() - truth.translation()).head<2>().norm(), 0.02);
+  EXPECT_EQ(r.pose.translation().z(), guess.translation().z());
+  // The sensor's axes turned about z only: its z axis, and so roll and pitch, as guessed.
+  EXPECT_TRUE(r.pose.linear().row(2).isApprox(guess.linear().row(2), 1e-12));
+  EXPECT_LT(rotationErrorDeg(r.pose, truth), 0.2);
+  for (int k : {2, 3, 4}) {
+    EXPECT_EQ(r.covariance.row(k).norm(), 0);
+    EXPECT_EQ(r.covariance.col(k).norm(), 0);
+  }
+  EXPECT_GT(r.covariance(0, 0), 0);
+  EXPECT_GT(r.covariance(5, 5), 0);
+}
+
+TEST(Registration, SameResultForOneAndTwoThreads) {
+  const RealCase& c = realCase();
+  Isometry3d guess = c.poses[RealCase::kLeftOut];
+  guess.translation() += Vector3d(0.7, 0.4, 0);
+  for (const auto method : {RegistrationMethod::P2D, RegistrationMethod::D2D}) {
+    RegistrationOptions o;
+    o.method = method;
+    NdtRegistration one(o);
+    o.threads = 2;
+    NdtRegistration two(o);
+    const RegistrationResult a = one.align(c.map, c.scan, guess);
+    const RegistrationResult b = two.align(c.map, c.scan, guess);
+    EXPECT_EQ(a.pose.matrix(), b.pose.matrix()) << toString(method);
+    EXPECT_EQ(a.covariance, b.covariance);
+    EXPECT_EQ(a.score, b.score);
+    ASSERT_EQ(a.levels.size(), b.levels.size());
+    for (size_t l = 0; l < a.levels.size(); ++l)
+      EXPECT_EQ(a.levels[l].iterations, b.levels[l].iterations);
+  }
+}
+
+TEST(Registration, PyramidIsKeptUntilTheMapChanges) {
+  NdtMap map = room::roomMap(0.2, 60000);
+  const auto scan = inSensorFrame(room::sampleRoom(5000, 4), poseOf(room::kRoomSensor, 0, Vector3d::UnitZ()));
+  NdtRegistration registration;
+  const Isometry3d guess = poseOf(room::kRoomSensor, 0, Vector3d::UnitZ());
+  EXPECT_TRUE(registration.align(map, scan, guess).pyramid_rebuilt);
+  const auto first = registration.pyramid();
+  EXPECT_FALSE(registration.align(map, scan, guess).pyramid_rebuilt);
+  EXPECT_EQ(first, registration.pyramid());
+  const NdtMap copy = map;  // same contents, same revision
+  EXPECT_FALSE(registration.align(copy, scan, guess).pyramid_rebuilt);
+  map.insertScan(room::sampleRoom(100, 9), room::kRoomSensor);
+  EXPECT_TRUE(registration.align(map, scan, guess).pyramid_rebuilt);
+  EXPECT_NE(first, registration.pyramid());
+}
+
+TEST(Registration, PyramidLevelsHoldTheOccupiedGaussiansOfTheCoarsenedMap) {
+  const NdtMap map = room::roomMap(0.2, 60000);
+  const MapPyramid pyramid(map, {8, 4, 2, 1});
+  ASSERT_EQ(pyramid.size(), 4u);
+  for (size_t l = 0; l < pyramid.size(); ++l) {
+    const NdtMap coarse = map.coarsened(pyramid.factor(l));
+    size_t expected = 0;
+    coarse.forEachCell([&](const CellView& cell) {
+      if (!(cell.stats && cell.stats->hasGaussian() && cell.logodds > 0)) return;
+      ++expected;
+      const PreparedGaussian* g = pyramid.level(l).find(cell.index);
+      ASSERT_NE(g, nullptr);
+      EXPECT_TRUE(g->mean.isApprox(coarse.gaussian(cell.index)->mean, 1e-12));
+    });
+    EXPECT_EQ(pyramid.level(l).size(), expected);
+    EXPECT_DOUBLE_EQ(pyramid.resolution(l), 0.2 * pyramid.factor(l));
+  }
+  EXPECT_THROW(MapPyramid(map, {1, 2}), std::invalid_argument);
+  EXPECT_THROW(MapPyramid(map, {}), std::invalid_argument);
+}
+
+TEST(Registration, FreeSpaceAttractsNothing) {
+  // A wall seen once and then swept by many rays: its cells become free and lose their
+  // Gaussians, so a scan of that wall has nothing to match.
+  MapOptions o;
+  o.resolution = 0.2;
+  NdtMap map(o);
+  std::vector<Vector3d> wall, behind;
+  for (int i = 0; i < 80; ++i)
+    for (int j = 0; j < 40; ++j) {
+      if (i < 40 && j < 20) wall.emplace_back(3.0, -1.95 + 0.1 * i, 0.05 + 0.1 * j);
+      behind.emplace_back(6.0, -3.95 + 0.1 * i, 0.05 + 0.1 * j);  // its rays cross the wall
+    }
+  map.insertScan(wall, Vector3d::Zero());
+  for (int k = 0; k < 200; ++k) map.insertScan(behind, Vector3d::Zero());
+  RegistrationOptions ro;
+  ro.level_factors = {1};  // the wall behind is 15 cells away: out of reach
+  NdtRegistration registration(ro);
+  const RegistrationResult r = registration.align(map, wall, Isometry3d::Identity());
+  EXPECT_EQ(r.matched_fraction, 0.0);
+  EXPECT_FALSE(r.converged);
+  EXPECT_TRUE(r.pose.isApprox(Isometry3d::Identity()));
+  const GaussianLookup& level = registration.pyramid()->level(0);
+  for (const Vector3d& p : wall) EXPECT_EQ(level.find(map.geometry().cellOf(p)), nullptr);
+  EXPECT_NE(level.find(map.geometry().cellOf(behind[100])), nullptr);
+}
+
+TEST(Registration, ScanPointsInOpenFreeSpaceFailTheVerdict) {
+  // The room's map knows its inside is free. A scan of the room with points spread through
+  // a 2 x 2 x 1 m volume in its middle (objects the map never had) still aligns; with 0.5 %
+  // of its points there it is accepted, with 25 % the verdict names the free space.
+  const NdtMap map = room::roomMap(0.2, 200000);
+  const Isometry3d truth = poseOf(room::kRoomSensor, 0, Vector3d::UnitZ());
+  for (const double share : {0.005, 0.25}) {
+    std::vector<Vector3d> world = room::sampleRoom(20000, 8, 0.0);
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> u(0, 1);
+    const size_t floating = size_t(share / (1 - share) * double(world.size()));
+    for (size_t i = 0; i < floating; ++i)
+      world.emplace_back(-2.5 + 2 * u(rng), -1.5 + 2 * u(rng), 0.8 + u(rng));
+    RegistrationOptions o;
+    o.max_points = 100000;
+    NdtRegistration registration(o);
+    const RegistrationResult r =
+        registration.align(map, inSensorFrame(world, truth), truth * poseOf(Vector3d(0.05, 0, 0), 0, Vector3d::UnitZ()));
+    EXPECT_LT(translationError(r.pose, truth), 0.01) << share;
+    // (Fractions of the scan's voxels, not points: the floating points are spread thinner.)
+    EXPECT_EQ(r.free_fraction < 0.03, share < 0.1) << share << ": " << r.free_fraction;
+    EXPECT_EQ(r.converged, share < 0.1) << share << ": " << r.failure;
+    if (!r.converged) {
+      EXPECT_NE(r.failure.find("open space"), std::string::npos) << r.failure;
+    }
+  }
+}
+
+TEST(Registration, BadInputIsRejectedAndChangesNothing) {
+  const NdtMap map = room::roomMap(0.2, 20000);
+  const auto scan = room::sampleRoom(2000, 3);
+  NdtRegistration registration;
+  const Isometry3d guess = Isometry3d::Identity();
+
+  EXPECT_THROW(registration.align(map, {}, guess), std::invalid_argument);
+  const std::vector<Vector3d> nan_scan(10, Vector3d(NAN, 0, 0));
+  EXPECT_THROW(registration.align(map, nan_scan, guess), std::invalid_argument);
+  Isometry3d nan_guess = guess;
+  nan_guess.translation().x() = NAN;
+  EXPECT_THROW(registration.align(map, scan, nan_guess), std::invalid_argument);
+  Isometry3d mirror = guess;
+  mirror.linear()(0, 0) = -1;
+  EXPECT_THROW(registration.align(map, scan, mirror), std::invalid_argument);
+  EXPECT_THROW(registration.align(NdtMap(), scan, guess), std::invalid_argument);
+  EXPECT_EQ(registration.pyramid(), nullptr);  // nothing cached by a failed call
+
+  RegistrationOptions bad;
+  bad.level_factors = {1, 2};
+  EXPECT_THROW(NdtRegistration{bad}, std::invalid_argument);
+  bad = RegistrationOptions{};
+  bad.outlier_ratio = 1;
+  EXPECT_THROW(registration.setOptions(bad), std::invalid_argument);
+  bad = RegistrationOptions{};
+  bad.threads = 0;
+  EXPECT_THROW(registration.setOptions(bad), std::invalid_argument);
+  EXPECT_EQ(registration.options().threads, 1);
+  EXPECT_THROW(registrationMethodFromString("icp"), std::invalid_argument);
+}
