@@ -1,5 +1,6 @@
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 #include "experiments.h"
@@ -18,8 +19,7 @@ void Summary::write(const std::string& path) const {
 }
 
 MapOptions recursiveNdtOptions(double resolution) {
-  MapOptions o;
-  o.resolution = resolution;
+  MapOptions o = ndtOmOptions(resolution);
   o.occupancy.enabled = false;
   return o;
 }
@@ -28,6 +28,7 @@ MapOptions ndtOmOptions(double resolution, RayMode ray_mode) {
   MapOptions o;
   o.resolution = resolution;
   o.insertion.ray_mode = ray_mode;
+  o.insertion.max_range = std::numeric_limits<double>::infinity();  // as the paper: no limit
   return o;
 }
 

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "ndtom/input_file.h"
 #include "ndtom_apps/option_values.h"
 
 namespace fs = std::filesystem;
@@ -24,6 +25,14 @@ bool hasPcdFiles(const fs::path& folder) {
 }
 
 }  // namespace
+
+void requireRegularFile(const std::string& what, const std::string& path) {
+  try {
+    ndtom::checkInputFile(path, UINT64_MAX, what);
+  } catch (const ndtom::InputFileError& e) {
+    throw UsageError(e.what());
+  }
+}
 
 InputFormat inputFormatFromName(const std::string& name) {
   if (name == "auto") return InputFormat::Auto;
@@ -63,6 +72,7 @@ InputFormat detectInputFormat(const std::string& path) {
                      ": folder holds neither a TUM RGB-D sequence (associations.txt, depth.txt) "
                      "nor .pcd files");
   }
+  requireRegularFile("INPUT", path);
   if (endsWith(path, ".rawlog") || endsWith(path, ".rawlog.gz")) return InputFormat::Rawlog;
   if (endsWith(path, ".simplemap") || endsWith(path, ".simplemap.gz"))
     return InputFormat::Simplemap;

@@ -22,4 +22,9 @@ const char* inputFormatName(InputFormat format);
 /// Throws apps::UsageError if the path does not exist or matches no format.
 InputFormat detectInputFormat(const std::string& path);
 
+/// Throws apps::UsageError "<what> <path>: <why>" unless `path`, given on the command line as
+/// `what` (INPUT, --poses, --config), is a regular file: readers would wait forever on a FIFO
+/// and read /dev/zero until memory ends. A bad command line, so exit status 2.
+void requireRegularFile(const std::string& what, const std::string& path);
+
 }  // namespace ndtom::mapper

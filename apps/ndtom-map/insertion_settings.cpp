@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 
+#include "input_format.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/run_program.h"
 
@@ -65,7 +66,7 @@ const std::vector<KeySpec>& keySpecs() {
       {{"logodds_min", "lower log-odds clamp (-2)"}, real(&O::logodds_min)},
       {{"logodds_max", "upper log-odds clamp (3.5)"}, real(&O::logodds_max)},
       {{"min_range", "closer points are dropped [m] (0)"}, real(&O::min_range)},
-      {{"max_range", "farther points: free ray to here, no hit [m] (inf)"},
+      {{"max_range", "farther points: free ray to here, no hit [m] (100)"},
        real(&O::max_range, /*allow_infinity=*/true)},
       {{"ray_mode", "PerPoint or PerHitCell (PerPoint)"}, setRayMode},
       {{"decimation", "keep 1 point in N of scans and clouds (1)"}, count(&O::decimation)},
@@ -78,6 +79,9 @@ const std::vector<KeySpec>& keySpecs() {
        [](O& o, const std::string& option, const std::string& text) {
          o.threads = int32_t(parseInteger(option, text, 1, 256));
        }},
+      {{"memory_budget", "MB the map and a scan may take; larger scans stop the run\n" +
+                             std::string(28, ' ') + "(a quarter of the RAM, at most 512)"},
+       real(&O::memory_budget)},
   };
   return specs;
 }
@@ -119,6 +123,7 @@ void checkSection(const mrpt::config::CConfigFileBase& file, const std::string& 
 
 InsertionOptions loadFile(const InsertionSettings& s) {
   InsertionOptions options;
+  requireRegularFile("--config", s.config_file);  // MRPT's reader would wait on a FIFO
   if (!std::ifstream(s.config_file).good())
     throw UsageError("--config " + s.config_file + ": cannot open the file");
   const mrpt::config::CConfigFile file(s.config_file);

@@ -8,6 +8,7 @@
 #include "map_builder.h"
 #include "map_outputs.h"
 #include "mapper_options.h"
+#include "ndtom_apps/option_values.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/run_program.h"
 #include "oblique_view.h"
@@ -29,6 +30,8 @@ SourceSettings sourceSettingsFor(const MapperOptions& o, const InsertionOptions&
   s.decimation = insertion.decimation;
   s.decimation_3d_range = insertion.decimation_3d_range;
   s.max_scans = o.max_scans;
+  s.max_scan_points =
+      ndtom::NdtMap::maxScanPoints(insertion.toMapOptions().insertion.memory_budget);
   return s;
 }
 
@@ -57,10 +60,23 @@ RunSummary summarize(const MapperOptions& o, const SourceSettings& settings,
   return summary;
 }
 
+// Command-line values that only make sense together, checked before any scan is read.
+void checkOptionsTogether(const MapperOptions& o, const InsertionOptions& insertion) {
+  if (o.coarse >= 2 && !(insertion.resolution * o.coarse <= ndtom::kMaxResolution)) {
+    char why[160];
+    std::snprintf(why, sizeof(why),
+                  ": the coarse map's cells would be %g m (--resolution %g), over the largest "
+                  "resolution, %g m",
+                  insertion.resolution * o.coarse, insertion.resolution, ndtom::kMaxResolution);
+    throw ndtom::apps::UsageError("--coarse " + std::to_string(o.coarse) + why);
+  }
+}
+
 int run(const MapperOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   // Read the options and open the input: every check that can fail fast happens here.
   const InsertionOptions insertion = resolveInsertionOptions(o.insertion);
+  checkOptionsTogether(o, insertion);
   const SourceSettings settings = sourceSettingsFor(o, insertion);
   auto source = openScanSource(settings);
   OutputFiles out(o.prefix);
@@ -68,8 +84,9 @@ int run(const MapperOptions& o) {
 
   // Insert the scans.
   ndtom::apps::Progress progress(!o.quiet);
-  MappingResult mapping = buildMap(std::move(source), settings,
-                                   {insertion.toMapOptions(), insertion.threads, o.passes}, progress);
+  MappingResult mapping =
+      buildMap(std::move(source), settings, {insertion.toMapOptions(), insertion.threads, o.passes},
+               progress);
   requireSomePoints(mapping, o.input);
   const size_t peak_rss_after_mapping = ndtom::apps::peakRssBytes();
 

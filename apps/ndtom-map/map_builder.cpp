@@ -26,9 +26,18 @@ PassResult describeMap(const ndtom::NdtMap& map) {
   return r;
 }
 
+// The core names its option memory_budget; here it is --memory-budget, in MB.
+std::string budgetMessage(const ndtom::MemoryBudgetError& e) {
+  std::string what = e.what();
+  const std::string core = "(memory_budget)";
+  const size_t at = what.rfind(core);
+  if (at != std::string::npos) what.replace(at, core.size(), "(--memory-budget, in MB)");
+  return what;
+}
+
 // One pass: every scan of `source` into `result.map`.
 void insertAll(ScanSource& source, const ndtom::InsertOptions& insert, bool first_pass,
-               MappingResult& result, apps::Progress& progress) {
+               const std::string& input, MappingResult& result, apps::Progress& progress) {
   size_t done = 0, points = 0;
   while (auto scan = source.next()) {
     const auto start = Clock::now();
@@ -36,6 +45,8 @@ void insertAll(ScanSource& source, const ndtom::InsertOptions& insert, bool firs
       result.points += result.map.insertScan(scan->points_world, scan->sensor_origin, insert);
     } catch (const std::invalid_argument& e) {  // a bad sensor origin; the map is unchanged
       throw InputError(scan->name + ": " + e.what());
+    } catch (const ndtom::MemoryBudgetError& e) {
+      throw InputError(scan->name + " in " + input + ": " + budgetMessage(e));
     }
     result.insert_seconds.push_back(secondsSince(start));
     if (first_pass) result.sensor_path.push_back(scan->sensor_origin);
@@ -57,7 +68,7 @@ MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings&
     progress.start(
         build.passes > 1 ? "pass " + std::to_string(pass) + "/" + std::to_string(build.passes) : "",
         source->size());
-    insertAll(*source, insert, pass == 1, result, progress);
+    insertAll(*source, insert, pass == 1, settings.input, result, progress);
     progress.finish();
     if (pass == 1) result.skips = source->skips();
     PassResult r = describeMap(result.map);

@@ -1,12 +1,13 @@
 #include "map_outputs.h"
 
-#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/io/CStream.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include "height_colors.h"
 #include "ndtom/map_io.h"
+#include "ndtom_apps/run_program.h"
 #include "oblique_view.h"
 #include "png_bytes.h"
 #include "top_view.h"
@@ -14,16 +15,32 @@
 namespace ndtom::mapper {
 namespace {
 
-std::string asString(const std::vector<uint8_t>& bytes) {
-  return std::string(bytes.begin(), bytes.end());
-}
+// An MRPT output stream over a file sink, so that the archive goes through the same synced,
+// error-naming writes as the other outputs.
+class SinkStream : public mrpt::io::CStream {
+ public:
+  explicit SinkStream(const ndtom::FileSink& sink) : sink_(sink) {}
+  size_t Write(const void* data, size_t size) override {
+    sink_(data, size);
+    written_ += size;
+    return size;
+  }
+  size_t Read(void*, size_t) override { return 0; }
+  uint64_t Seek(int64_t, TSeekOrigin) override { return written_; }
+  uint64_t getTotalBytesCount() const override { return written_; }
+  uint64_t getPosition() const override { return written_; }
+
+ private:
+  const ndtom::FileSink& sink_;
+  uint64_t written_ = 0;
+};
 
 void writeMrptMap(const mrpt_ndtom::CNDTOccupancyMap& map, OutputFiles& out) {
-  const std::string path = out.stage("mrpt_map", ".ndtommap");
-  mrpt::io::CFileOutputStream file;
-  if (!file.open(path)) throw std::runtime_error("cannot write " + path);
-  auto archive = mrpt::serialization::archiveFrom(file);
-  archive << map;
+  out.write("mrpt_map", ".ndtommap", [&](const ndtom::FileSink& sink) {
+    SinkStream stream(sink);
+    auto archive = mrpt::serialization::archiveFrom(stream);
+    archive << map;
+  });
 }
 
 void writeScene(const mrpt_ndtom::CNDTOccupancyMap& map,
@@ -40,7 +57,14 @@ void writeScene(const mrpt_ndtom::CNDTOccupancyMap& map,
                      sensor_path[i].x(), sensor_path[i].y(), sensor_path[i].z());
   scene.insert(path);
   const std::string file = out.stage("scene", ".3Dscene");
-  if (!scene.saveToFile(file)) throw std::runtime_error("cannot write " + file);
+  bool saved = false;
+  try {
+    saved = scene.saveToFile(file);
+  } catch (const std::exception& e) {  // MRPT's messages do not name the file
+    throw std::runtime_error("cannot write " + file + ": " + apps::oneLineMessage(e));
+  }
+  if (!saved) throw std::runtime_error("cannot write " + file);
+  ndtom::syncFile(file);  // as the outputs written here
 }
 
 }  // namespace
@@ -49,7 +73,13 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
                                              const std::vector<Eigen::Vector3d>& sensor_path,
                                              const OutputSettings& settings, OutputFiles& out) {
   const ndtom::NdtMap& ndt = map.ndtMap();
-  out.writeBytes("map", ".ndtom", asString(ndtom::encodeMap(ndt)));
+  // Maps are streamed: a map's bytes can be several times its memory.
+  const auto encode = [](const ndtom::NdtMap& m) {
+    return [&m](const ndtom::FileSink& sink) {
+      ndtom::encodeMap(m, [&](const uint8_t* data, size_t size) { sink(data, size); });
+    };
+  };
+  out.write("map", ".ndtom", encode(ndt));
   writeMrptMap(map, out);
   writeScene(map, sensor_path, out);
   if (settings.pictures) {
@@ -62,8 +92,7 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
   }
   if (settings.coarse < 2) return std::nullopt;
   const ndtom::NdtMap coarse = ndt.coarsened(settings.coarse);
-  out.writeBytes("coarse_map", ".coarse" + std::to_string(settings.coarse) + ".ndtom",
-                 asString(ndtom::encodeMap(coarse)));
+  out.write("coarse_map", ".coarse" + std::to_string(settings.coarse) + ".ndtom", encode(coarse));
   return CoarseMapInfo{settings.coarse, coarse.options().resolution, coarse.numCells(),
                        coarse.numGaussians()};
 }

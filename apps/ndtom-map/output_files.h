@@ -1,19 +1,24 @@
 // The files of a run, written under temporary names and renamed into place together at the
-// end: a run that fails or is interrupted leaves no file that looks complete.
+// end: all of them or none. A run that fails, is interrupted (SIGINT, SIGTERM, SIGHUP) or
+// cannot replace one of the previous outputs leaves the previous outputs as they were and no
+// temporary behind; temporaries of a run that was killed outright are removed by the next
+// run with the same prefix.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "ndtom/atomic_file.h"
 #include "run_summary.h"
 
 namespace ndtom::mapper {
 
 class OutputFiles {
  public:
-  /// Outputs are PREFIX + suffix. Creates PREFIX's folder if needed; throws apps::UsageError if it
-  /// cannot.
+  /// Outputs are PREFIX + suffix. Creates PREFIX's folder if needed (throws apps::UsageError if
+  /// it cannot), and cleans up after runs with this prefix whose process is gone: removes
+  /// their temporaries, and puts back a previous output a killed commit had moved aside.
   explicit OutputFiles(const std::string& prefix);
   /// Removes the temporaries of a set that was not committed.
   ~OutputFiles();
@@ -22,11 +27,17 @@ class OutputFiles {
 
   /// Registers PREFIX + suffix under `role` and returns the temporary path to write it to.
   std::string stage(const std::string& role, const std::string& suffix);
-  /// Writes `bytes` to the temporary of a new output (flushed to disk); returns its final path.
+  /// Writes a new output's temporary through `fill`, flushed to disk; returns its final path.
+  std::string write(const std::string& role, const std::string& suffix,
+                    const ndtom::FileFiller& fill);
+  /// The same with the whole content at hand.
   std::string writeBytes(const std::string& role, const std::string& suffix,
                          const std::string& bytes);
 
-  /// Renames every temporary to its final name. Throws std::runtime_error naming a file.
+  /// Puts every temporary in place of its output, or none: checks first that each output can
+  /// be replaced (not a folder), moves each previous output aside before replacing it, and
+  /// on any failure puts back what it moved. Signals that end the program wait until it is
+  /// done. Throws std::runtime_error naming the file that could not be replaced.
   void commit();
 
   /// The outputs so far, by role, under their final names.
@@ -35,7 +46,6 @@ class OutputFiles {
  private:
   std::string prefix_;
   std::vector<WrittenFile> files_;
-  std::vector<std::string> temporaries_;
   bool committed_ = false;
 };
 

@@ -10,6 +10,7 @@
 
 #include <fstream>
 
+#include "input_format.h"
 #include "mrpt_ndtom/observation_points.h"
 #include "ndtom_apps/run_program.h"
 #include "scan_source.h"
@@ -19,6 +20,7 @@ namespace ndtom::mapper {
 using mrpt::obs::CObservation;
 
 RawlogReader::RawlogReader(const std::string& path) : path_(path) {
+  requireRegularFile("INPUT", path);
   if (!std::ifstream(path).good()) throw InputError(path + ": cannot open the file");
   file_ = std::make_unique<mrpt::io::CFileGZInputStream>();
   if (!file_->open(path)) throw InputError(path + ": cannot open the file");

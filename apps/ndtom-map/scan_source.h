@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -73,6 +74,9 @@ struct SourceSettings {
   uint32_t decimation = 1;           ///< 1 point in N of scans and clouds
   uint32_t decimation_3d_range = 1;  ///< depth images: every N-th row and column
   size_t max_scans = 0;              ///< 0 = all
+  /// Points a scan may have (what the memory budget holds): readers refuse larger scans
+  /// before allocating them (Default: no limit).
+  uint64_t max_scan_points = UINT64_MAX;
   /// Scans without a pose are yielded in their own frame instead of being refused or
   /// skipped (localization estimates the poses): a PCD folder without poses.txt, rawlog
   /// scans without odometry.

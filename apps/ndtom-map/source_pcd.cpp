@@ -6,7 +6,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "input_format.h"
 #include "natural_order.h"
+#include "ndtom/checked_size.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_io/pcd_reader.h"
 #include "scan_source.h"
@@ -52,11 +54,16 @@ std::vector<double> readTimes(const std::string& path, size_t scans) {
 
 class PcdFolderSource : public ScanSource {
  public:
-  explicit PcdFolderSource(const SourceSettings& s) : folder_(s.input), decimation_(s.decimation) {
+  explicit PcdFolderSource(const SourceSettings& s)
+      : folder_(s.input),
+        decimation_(s.decimation),
+        // Points are decimated after reading: a file may hold `decimation` times more.
+        max_file_points_(ndtom::checkedMul(s.max_scan_points, decimation_).value_or(UINT64_MAX)) {
     if (!fs::is_directory(folder_))
       throw apps::UsageError(folder_ + ": not a folder of .pcd files");
     files_ = pcdFilesInNaturalOrder(folder_);
     if (files_.empty()) throw InputError(folder_ + ": no .pcd files");
+    if (!s.poses_file.empty()) requireRegularFile("--poses", s.poses_file);
     poses_path_ = s.poses_file.empty() ? (fs::path(folder_) / "poses.txt").string() : s.poses_file;
     if (!fs::exists(poses_path_)) {
       if (!s.poses_optional || !s.poses_file.empty())
@@ -82,7 +89,7 @@ class PcdFolderSource : public ScanSource {
     const std::string path = (fs::path(folder_) / files_[index_]).string();
     ndtom::io::PointCloud cloud;
     try {
-      cloud = ndtom::io::readPcd(path);
+      cloud = ndtom::io::readPcd(path, max_file_points_);
     } catch (const std::exception& e) {
       throw InputError(e.what());
     }
@@ -95,10 +102,14 @@ class PcdFolderSource : public ScanSource {
     scan.frame_pose = sensor_to_world;
     scan.pose_kind = has_pose ? Scan::PoseKind::Reference : Scan::PoseKind::None;
     scan.sensor_origin = sensor_to_world * cloud.viewpoint.translation();
-    scan.points_world.reserve(cloud.points.size() / decimation_ + 1);
-    for (size_t i = 0; i < cloud.points.size(); i += decimation_)
-      scan.points_world.push_back(sensor_to_world * cloud.points[i]);
-    skips_.points_decimated += cloud.points.size() - scan.points_world.size();
+    // In place: a second copy of a large cloud would double the reader's memory.
+    const size_t read = cloud.points.size();
+    size_t kept = 0;
+    for (size_t i = 0; i < read; i += decimation_)
+      cloud.points[kept++] = sensor_to_world * cloud.points[i];
+    cloud.points.resize(kept);
+    scan.points_world = std::move(cloud.points);
+    skips_.points_decimated += read - kept;
     ++index_;
     return scan;
   }
@@ -113,6 +124,7 @@ class PcdFolderSource : public ScanSource {
  private:
   std::string folder_, poses_path_;
   uint32_t decimation_;
+  uint64_t max_file_points_;
   std::vector<std::string> files_;
   std::vector<ndtom::io::StampedPose> poses_;  ///< empty: no poses
   std::vector<double> times_;                  ///< used without poses

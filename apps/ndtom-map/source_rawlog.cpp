@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "input_format.h"
 #include "mrpt_ndtom/observation_points.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/run_program.h"
@@ -26,8 +27,10 @@ class RawlogSource : public ScanSource {
         poses_optional_(s.poses_optional) {
     if (std::filesystem::is_directory(path_))
       throw apps::UsageError(path_ + ": a folder, not a rawlog");
-    if (!s.poses_file.empty())
+    if (!s.poses_file.empty()) {
+      requireRegularFile("--poses", s.poses_file);
       trajectory_.emplace(s.poses_file, s.pose_format, s.pose_time_tolerance);
+    }
     survey(s.max_scans);
     reader_ = std::make_unique<RawlogReader>(path_);
   }

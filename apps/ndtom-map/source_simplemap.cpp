@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "input_format.h"
 #include "mrpt_ndtom/observation_points.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/run_program.h"
@@ -20,6 +21,7 @@ namespace {
 mrpt::maps::CSimpleMap loadSimplemap(const std::string& path) {
   if (std::filesystem::is_directory(path))
     throw apps::UsageError(path + ": a folder, not a simplemap");
+  requireRegularFile("INPUT", path);
   mrpt::io::CFileGZInputStream file;
   if (!std::ifstream(path).good() || !file.open(path))
     throw InputError(path + ": cannot open the file");

@@ -11,7 +11,10 @@ namespace {
 class TumSource : public ScanSource {
  public:
   explicit TumSource(const SourceSettings& s)
-      : folder_(s.input), camera_(s.camera), decimation_(s.decimation_3d_range) {
+      : folder_(s.input),
+        camera_(s.camera),
+        decimation_(s.decimation_3d_range),
+        max_points_(s.max_scan_points) {
     if (!s.poses_file.empty())
       throw apps::UsageError(
           "--poses: not used for TUM RGB-D sequences (the folder's ground truth "
@@ -37,7 +40,8 @@ class TumSource : public ScanSource {
     const ndtom::io::TumFrame& frame = sequence_.frames[index_++];
     std::vector<Eigen::Vector3d> points;
     try {
-      points = ndtom::io::readDepthImagePoints(frame.depth_path, camera_, int(decimation_));
+      points =
+          ndtom::io::readDepthImagePoints(frame.depth_path, camera_, int(decimation_), max_points_);
     } catch (const std::exception& e) {
       throw InputError(e.what());
     }
@@ -46,8 +50,8 @@ class TumSource : public ScanSource {
     scan.time = frame.time;
     scan.sensor_origin = frame.camera_to_world.translation();
     scan.frame_pose = frame.camera_to_world;
-    scan.points_world.reserve(points.size());
-    for (const auto& p : points) scan.points_world.push_back(frame.camera_to_world * p);
+    for (auto& p : points) p = frame.camera_to_world * p;  // in place: one copy of the cloud
+    scan.points_world = std::move(points);
     return scan;
   }
 
@@ -66,6 +70,7 @@ class TumSource : public ScanSource {
   std::string folder_;
   ndtom::io::DepthCamera camera_;
   uint32_t decimation_;
+  uint64_t max_points_;
   ndtom::io::TumSequence sequence_;
   size_t index_ = 0;
 };

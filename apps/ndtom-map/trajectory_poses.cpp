@@ -2,40 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "scan_source.h"
 
 namespace ndtom::mapper {
-namespace {
-
-// What PoseFormat::Auto decides for the file: the first data line's number count.
-bool looksLikeTum(const std::string& path) {
-  std::ifstream in(path);
-  for (std::string line; std::getline(in, line);) {
-    const size_t first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream s(line);
-    size_t count = 0;
-    for (std::string token; s >> token;) ++count;
-    return count == 8;
-  }
-  return false;
-}
-
-}  // namespace
 
 TrajectoryPoses::TrajectoryPoses(const std::string& path, ndtom::io::PoseFormat format,
                                  double time_tolerance)
     : path_(path), tolerance_(time_tolerance) {
+  ndtom::io::PoseFormat used = format;
   try {
-    poses_ = ndtom::io::readPoseFile(path, format);
+    poses_ = ndtom::io::readPoseFile(path, format, &used);
   } catch (const std::exception& e) {
     throw InputError(e.what());
   }
-  by_time_ = format == ndtom::io::PoseFormat::Tum ||
-             (format == ndtom::io::PoseFormat::Auto && looksLikeTum(path));
+  by_time_ = used == ndtom::io::PoseFormat::Tum;
   if (by_time_)
     std::stable_sort(poses_.begin(), poses_.end(),
                      [](const auto& a, const auto& b) { return a.time < b.time; });

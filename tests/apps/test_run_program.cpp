@@ -2,6 +2,8 @@
 // body's own status otherwise; one line "program: message" on stderr (captured: no terminal).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -34,6 +36,15 @@ TEST(RunProgram, OtherFailuresAreStatusOneOnOneLine) {
   });
   EXPECT_EQ(status, 1);
   EXPECT_EQ(testing::internal::GetCapturedStderr(), "ndtom-x: cannot open a.rawlog\n");
+}
+
+TEST(RunProgram, OutOfMemorySaysSo) {
+  testing::internal::CaptureStderr();
+  const int status = runProgram("ndtom-x", []() -> int { throw std::bad_alloc(); });
+  EXPECT_EQ(status, 1);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(err.rfind("ndtom-x: out of memory: ", 0), 0u) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }
 
 TEST(OneLineMessage, PlainMessagesStayAsTheyAre) {

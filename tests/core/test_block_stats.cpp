@@ -8,7 +8,9 @@
 #include <optional>
 #include <random>
 #include <set>
+#include <utility>
 
+#include "ndtom/map_io.h"
 #include "ndtom/ndt_map.h"
 #include "support/brute_force.h"
 
@@ -120,7 +122,7 @@ TEST(BlockStats, CellsGainAndLoseStatisticsInAnyOrder) {
                     c.z + 0.05 + 0.9 * u(rng));
   };
 
-  size_t gained = 0, regained = 0, lost_to_rays = 0, lost_to_hits = 0;
+  size_t gained = 0, regained = 0, lost_to_rays = 0, lost_to_hits = 0, refused = 0;
   std::set<CellIndex> ever_had;
   std::optional<CellIndex> last_set;
   for (int step = 0; step < 300; ++step) {
@@ -128,14 +130,22 @@ TEST(BlockStats, CellsGainAndLoseStatisticsInAnyOrder) {
     std::set<CellIndex> hit;
     size_t gaussians_gained = 0, gaussians_lost = 0;
     if (step % 4 == 3) {
-      // setCell adds, replaces or removes statistics, and can leave some in a cell with
-      // log-odds <= 0, which its next hit then drops.
+      // setCell adds, replaces or removes statistics. It refuses them in a cell with log-odds
+      // <= 0 (the rule of cell_rules.h, which the loader applies too), leaving the map as it
+      // was; the cell is then set without them.
       const CellIndex c = randomCell();
       const float logodds = float(-2.0 + 3.5 * u(rng));
       std::vector<Vector3d> relative;
       for (int k = int(4 * u(rng)); k > 0; --k)
         relative.push_back(pointIn(c) - Vector3d(c.x + 0.5, c.y + 0.5, c.z + 0.5));
-      const CellStats stats = CellStats::fromPoints(relative);
+      CellStats stats = CellStats::fromPoints(relative);
+      if (logodds <= 0.f && !stats.empty()) {
+        const auto unchanged = ndtom::encodeMap(map);
+        EXPECT_THROW(map.setCell(c, logodds, stats), std::invalid_argument);
+        EXPECT_EQ(ndtom::encodeMap(map), unchanged);
+        stats = CellStats{};
+        ++refused;
+      }
       map.setCell(c, logodds, stats);
       ref.set(c, logodds, stats);
       last_set = c;
@@ -160,6 +170,8 @@ TEST(BlockStats, CellsGainAndLoseStatisticsInAnyOrder) {
     }
     expectSameCells(map, ref);
     if (HasFatalFailure()) return;
+    // memoryBytes() keeps count as statistics come and go (the memory budget reads it).
+    ASSERT_EQ(map.memoryBytes(), map.memoryBytesCounted()) << "step " << step;
 
     size_t expected_gained = 0, expected_lost = 0;
     for (const auto& [c, now] : ref.cells()) {
@@ -185,5 +197,13 @@ TEST(BlockStats, CellsGainAndLoseStatisticsInAnyOrder) {
   EXPECT_GT(gained, 200u);
   EXPECT_GT(regained, 40u);
   EXPECT_GT(lost_to_rays, 100u);
-  EXPECT_GT(lost_to_hits, 5u);
+  EXPECT_GT(refused, 5u);
+  // No cell holds statistics with log-odds <= 0, so a hit (which raises it) never drops any.
+  EXPECT_EQ(lost_to_hits, 0u);
+  // Copies count their own (tight) statistics arrays.
+  const NdtMap copy = map;
+  NdtMap assigned;
+  assigned = map;
+  for (const NdtMap* m : {&copy, &std::as_const(assigned)})
+    EXPECT_EQ(m->memoryBytes(), m->memoryBytesCounted());
 }

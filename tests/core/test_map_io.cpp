@@ -109,6 +109,8 @@ TEST(MapIo, LoadedMapKeepsNoSpareStatisticsRoom) {
     EXPECT_EQ(m.memoryBytes(), bytes) << what;
   };
   const std::vector<uint8_t> file = ndtom::encodeMap(map);
+  for (const NdtMap* m : {&map, &std::as_const(by_hand)})
+    EXPECT_EQ(m->memoryBytes(), m->memoryBytesCounted());
   expectNoSpareRoom(ndtom::decodeMap(file.data(), file.size()), "loaded");
   expectNoSpareRoom(map.coarsened(2), "coarsened");
   NdtMap merged(map.options());
@@ -212,5 +214,86 @@ TEST(MapIo, SaveReplacesAtomicallyAndLeavesNoTemporary) {
   EXPECT_TRUE(ndtom::loadMap(path).isEmpty());
   EXPECT_FALSE(std::filesystem::exists(ndtom::temporaryPathFor(path)));
   EXPECT_THROW(ndtom::saveMap(NdtMap(), "/nonexistent/dir/map.ndtom"), std::runtime_error);
+  std::remove(path.c_str());
+}
+
+// A cell count is checked against the bytes left before anything is allocated for it. A
+// 237-byte file whose count overlapped the checksum made `remaining() - 4` underflow: the
+// loader then reserved room for the count (922 MB) before failing, and counts of 1.7e9 and
+// more gave std::bad_alloc instead of a format error.
+TEST(MapIo, CellCountIsCheckedAgainstTheBytesLeft) {
+  const auto empty = ndtom::encodeMap(NdtMap());  // header, options, u64 count 0, CRC
+  const std::vector<uint8_t> head(empty.begin(), empty.end() - 12);
+  for (const uint32_t low : {0u, 1u, 5000u, 0xFFFFFFFFu}) {
+    // The count's high half is the file's last 4 bytes: the checksum of what precedes it.
+    std::vector<uint8_t> file = head;
+    for (int i = 0; i < 4; ++i) file.push_back(uint8_t(low >> (8 * i)));
+    const uint32_t crc = ndtom::crc32(file.data(), file.size());
+    for (int i = 0; i < 4; ++i) file.push_back(uint8_t(crc >> (8 * i)));
+    try {
+      ndtom::decodeMap(file.data(), file.size(), "overlap");
+      FAIL() << "loaded";
+    } catch (const ndtom::MapFormatError& e) {
+      EXPECT_NE(std::string(e.what()).find("exceeds the file size"), std::string::npos) << e.what();
+    }
+  }
+  // Counts beyond the cells present, in a well-formed file.
+  const auto one = ndtom::encodeMap(smallMap());
+  for (const uint64_t count : {uint64_t(1700000000), uint64_t(1) << 62, ~uint64_t(0)}) {
+    std::vector<uint8_t> file = one;
+    const size_t at = empty.size() - 12;  // the count follows the options
+    for (int i = 0; i < 8; ++i) file[at + size_t(i)] = uint8_t(count >> (8 * i));
+    const uint32_t crc = ndtom::crc32(file.data(), file.size() - 4);
+    for (int i = 0; i < 4; ++i) file[file.size() - 4 + size_t(i)] = uint8_t(crc >> (8 * i));
+    try {
+      ndtom::decodeMap(file.data(), file.size(), "count");
+      FAIL() << "loaded";
+    } catch (const ndtom::MapFormatError& e) {
+      EXPECT_NE(std::string(e.what()).find("exceeds the file size"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// The encoding streamed in pieces is encodeMap()'s bytes, and encodedMapSize() their number.
+TEST(MapIo, StreamedEncodingIsTheSameBytes) {
+  NdtMap map;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-30, 30);
+  std::vector<Vector3d> pts;
+  for (int i = 0; i < 20000; ++i) pts.emplace_back(u(rng), u(rng), u(rng) / 10);
+  map.insertScan(pts, Vector3d(0, 0, 0));
+  const auto whole = ndtom::encodeMap(map);
+  ASSERT_GT(whole.size(), size_t(3) << 20);  // several pieces
+  std::vector<uint8_t> streamed;
+  size_t pieces = 0;
+  ndtom::encodeMap(map, [&](const uint8_t* data, size_t size) {
+    streamed.insert(streamed.end(), data, data + size);
+    ++pieces;
+  });
+  EXPECT_EQ(streamed, whole);
+  EXPECT_GT(pieces, 2u);
+  EXPECT_EQ(ndtom::encodedMapSize(map), whole.size());
+}
+
+// Loading stays within a memory budget: a small file of cells far apart (a block each) is
+// refused before its blocks take more, and so is a file larger than the budget.
+TEST(MapIo, LoadingRespectsTheMemoryBudget) {
+  NdtMap sparse;
+  for (int i = 0; i < 3000; ++i) sparse.setCell({16 * i, 0, 0}, 1.f, {});
+  const auto bytes = ndtom::encodeMap(sparse);  // 60 kB for 3000 blocks of 2 kB
+  try {
+    ndtom::decodeMap(bytes.data(), bytes.size(), "sparse.ndtom", 2000000);
+    FAIL() << "loaded within 2 MB";
+  } catch (const ndtom::MemoryBudgetError& e) {
+    EXPECT_NE(std::string(e.what()).find("sparse.ndtom: loading 3000 cells"), std::string::npos)
+        << e.what();
+    EXPECT_LE(e.budget(), 2000000u);
+  }
+  EXPECT_EQ(ndtom::decodeMap(bytes.data(), bytes.size(), "sparse.ndtom", 20000000).numCells(),
+            3000u);
+  const std::string path = tempPath("budget");
+  ndtom::saveMap(sparse, path);
+  EXPECT_THROW(ndtom::loadMap(path, 50000), ndtom::MemoryBudgetError);
+  EXPECT_EQ(ndtom::loadMap(path, 20000000).numCells(), 3000u);
   std::remove(path.c_str());
 }

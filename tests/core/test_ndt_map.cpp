@@ -216,11 +216,15 @@ TEST(NdtMapRecursive, EndsKilometresApartEqualBatchForAnyThreadCount) {
   // of one of 70,000 points (17 bits) do not fit one word, so blocks are numbered as met.
   MapOptions o = unitGrid();
   o.occupancy.enabled = false;  // 26 km rays would take long to trace
+  o.insertion.max_range = std::numeric_limits<double>::infinity();
   std::mt19937 rng(8);
   std::normal_distribution<double> spread(0.0, 0.6);
   std::vector<Vector3d> points;
-  const std::vector<Vector3d> centres{{-26000, -26000, -26000}, {26000, 26000, 26000},
-                                      {26000, -26000, 5}, {3.5, 2.5, -1.5}, {-12000, 9000, 2}};
+  const std::vector<Vector3d> centres{{-26000, -26000, -26000},
+                                      {26000, 26000, 26000},
+                                      {26000, -26000, 5},
+                                      {3.5, 2.5, -1.5},
+                                      {-12000, 9000, 2}};
   for (int i = 0; i < 70000; ++i)
     points.push_back(centres[size_t(i) % centres.size()] +
                      Vector3d(spread(rng), spread(rng), spread(rng)));
@@ -248,6 +252,7 @@ TEST(NdtMapInput, BadPointsAreCountedAndChangeNothingElse) {
   MapOptions o;
   o.resolution = 0.5;
   o.insertion.min_range = 0.3;
+  o.insertion.max_range = std::numeric_limits<double>::infinity();  // far points are rejected
   std::mt19937 rng(8);
   Vector3d origin;
   const auto clean = randomScan(rng, &origin);

@@ -6,9 +6,12 @@
 #include <iterator>
 
 #include "ndtom_io/pcd_reader.h"
+#include "support/pcd_bytes.h"
+#include "support/special_files.h"
 
 using ndtom::io::parsePcd;
 using ndtom::io::PcdError;
+using ndtom::testing::lzfLiterals;
 
 namespace {
 
@@ -23,20 +26,10 @@ void append(std::string& s, T v) {
   s.append(reinterpret_cast<const char*>(&v), sizeof(v));
 }
 
-// A valid LZF stream made of literal runs only (control byte = run length − 1 < 32).
-std::string lzfLiterals(const std::string& raw) {
-  std::string out;
-  for (size_t i = 0; i < raw.size(); i += 32) {
-    const size_t run = std::min<size_t>(32, raw.size() - i);
-    out.push_back(char(run - 1));
-    out.append(raw, i, run);
-  }
-  return out;
-}
-
-void expectError(const std::string& bytes, const std::string& fragment) {
+void expectError(const std::string& bytes, const std::string& fragment,
+                 uint64_t max_points = ndtom::io::kDefaultMaxPcdPoints) {
   try {
-    parsePcd(bytes, "test.pcd");
+    parsePcd(bytes, "test.pcd", max_points);
     FAIL() << "accepted; expected an error containing '" << fragment << "'";
   } catch (const PcdError& e) {
     EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
@@ -126,7 +119,7 @@ TEST(PcdReader, BrokenFilesGiveClearErrors) {
   expectError(header("x y z", "4 4 4", "F F F", 2, "ascii") + "1 2\n3 4 5\n", "values");
   expectError(header("x y z", "4 4 4", "F F F", 1, "ascii") + "1 a 3\n", "bad number");
   expectError(header("x y z", "4 4 4", "F F F", 5, "binary") + std::string(40, '\0'), "truncated");
-  expectError(header("x y z", "4 4 4", "F F F", 1000000000, "binary"), "truncated");
+  expectError(header("x y z", "4 4 4", "F F F", 10000000, "binary"), "truncated");
   expectError(header("x y z", "4 4", "F F F", 1, "binary"), "different lengths");
   expectError(header("x y z", "3 4 4", "F F F", 1, "binary"), "unsupported type");
   expectError(header("x y z", "4 4 4", "F F F", 1, "lzma"), "unknown DATA");
@@ -142,4 +135,50 @@ TEST(PcdReader, WriteThenReadRoundTrip) {
   const std::vector<Eigen::Vector3d> pts = {{1, 2, 3}, {-0.5, 0.25, 8}};
   ndtom::io::writePcdBinary(path, pts);
   EXPECT_EQ(ndtom::io::readPcd(path).points, pts);
+}
+
+// Sizes from the header are checked, never wrapped or truncated. Before, the first file below
+// (131,072 fields of 2^20 doubles and 2^24 points: 2^40 bytes a point, 2^64 in all, which
+// wrapped to 0) passed the size check and the reader read past an empty buffer; COUNT
+// 4294967297 was read as 1 and SIZE 4294967300 as 4.
+TEST(PcdReader, HeaderSizesAreCheckedNotWrapped) {
+  expectError(ndtom::testing::wrappingCompressedPcd(), "131072 FIELDS");
+
+  // Within the field limits, 2^40 points of 2^24 bytes: the product wraps to 0.
+  expectError(ndtom::testing::wideWrappingCompressedPcd(), "does not match the fields and POINTS",
+              UINT64_MAX);
+
+  const std::string tail = "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n";
+  expectError("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 4294967297 1 1\n" + tail,
+              "bad COUNT '4294967297'");
+  expectError("FIELDS x y z\nSIZE 4294967300 4 4\nTYPE F F F\n" + tail, "bad SIZE '4294967300'");
+  expectError("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT -1 1 1\n" + tail, "bad COUNT '-1'");
+  expectError(
+      "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 4294967296\nHEIGHT 4294967296\n"
+      "POINTS 0\nDATA ascii\n",
+      "WIDTH x HEIGHT");
+  expectError(header("x y z", "4 4 4", "F F F", 1000, "binary"), "1000 points, more than the 999",
+              999);
+  expectError(
+      header("x y z", "4 4 4", "F F F", 1, "ascii").replace(0, 0, "VIEWPOINT nan 0 0 1 0 0 0\n") +
+          "1 2 3\n",
+      "bad VIEWPOINT 'nan'");
+}
+
+// A FIFO named scan.pcd made the reader wait for a writer forever; /dev/zero read 2 GB.
+TEST(PcdReader, RefusesFilesThatAreNotRegularFiles) {
+  const ndtom::testing::Fifo fifo(::testing::TempDir() + "/scan.pcd");
+  auto message = [](const std::string& path) {
+    try {
+      ndtom::io::readPcd(path);
+    } catch (const PcdError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message(fifo.path()).find(fifo.path() + ": a FIFO"), std::string::npos)
+      << message(fifo.path());
+  EXPECT_NE(message(ndtom::testing::kEndlessFile).find("/dev/zero: a device"), std::string::npos)
+      << message(ndtom::testing::kEndlessFile);
+  EXPECT_NE(message(::testing::TempDir()).find("a folder"), std::string::npos);
 }

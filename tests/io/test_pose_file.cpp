@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "ndtom_io/pose_file.h"
+#include "support/special_files.h"
 
 using ndtom::io::PoseFileError;
 using ndtom::io::readPoseFile;
@@ -55,4 +56,41 @@ TEST(PoseFile, ErrorsNameFileAndLine) {
   EXPECT_THROW(readPoseFile(writeTemp("notrot.txt", "2 0 0 0 0 1 0 0 0 0 1 0\n")), PoseFileError);
   EXPECT_THROW(readPoseFile(writeTemp("empty.txt", "# nothing\n")), PoseFileError);
   EXPECT_THROW(readPoseFile("/nonexistent/poses.txt"), PoseFileError);
+}
+
+// A pose with determinant -1 is a mirror, not a rotation: it was accepted and turned the
+// scans inside out. A file mixing KITTI and TUM lines was accepted as one trajectory.
+TEST(PoseFile, MirrorsAndMixedFormatsAreRejected) {
+  const std::string mirror = writeTemp("mirror.txt", "-1 0 0 0 0 1 0 0 0 0 1 0\n");
+  try {
+    readPoseFile(mirror);
+    FAIL() << "a mirror was accepted";
+  } catch (const PoseFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 1: the 3x3 block is not a rotation"),
+              std::string::npos)
+        << e.what();
+  }
+  const std::string mixed = writeTemp("mixed.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n5.0 1 2 3 0 0 0 1\n");
+  try {
+    readPoseFile(mixed);
+    FAIL() << "a file mixing KITTI and TUM lines was accepted";
+  } catch (const PoseFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 2: expected KITTI"), std::string::npos) << e.what();
+  }
+  ndtom::io::PoseFormat used = ndtom::io::PoseFormat::Auto;
+  readPoseFile(writeTemp("tum2.txt", "# t x y z qx qy qz qw\n5.0 1 2 3 0 0 0 1\n"),
+               ndtom::io::PoseFormat::Auto, &used);
+  EXPECT_EQ(used, ndtom::io::PoseFormat::Tum);
+}
+
+TEST(PoseFile, RefusesFilesThatAreNotRegularFiles) {
+  const ndtom::testing::Fifo fifo(::testing::TempDir() + "/poses-fifo.txt");
+  for (const std::string& path : {fifo.path(), ndtom::testing::kEndlessFile}) {
+    try {
+      readPoseFile(path);
+      FAIL() << path << " accepted";
+    } catch (const PoseFileError& e) {
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+  }
 }

@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "ndtom_io/tum_rgbd.h"
+#include "support/special_files.h"
 
 namespace fs = std::filesystem;
 using ndtom::io::readTumSequence;
@@ -83,4 +84,41 @@ TEST(TumRgbd, BackProjectionInvertsThePinholeModel) {
   EXPECT_THROW(ndtom::io::readDepthImagePoints(png, cam), std::invalid_argument);
   EXPECT_THROW(ndtom::io::readDepthImagePoints("/nonexistent.png", ndtom::io::DepthCamera{}),
                ndtom::io::TumError);
+}
+
+// Image sizes are bounded before decoding: a 5000 x 5000 PNG of zeros (a few kB) was decoded
+// (50 MB) and its points reserved (600 MB) before a pixel was read.
+TEST(TumRgbd, DepthImageSizeIsBoundedBeforeDecoding) {
+  const std::string png = ::testing::TempDir() + "/large-depth.png";
+  ASSERT_TRUE(cv::imwrite(png, cv::Mat(5000, 5000, CV_16UC1, cv::Scalar(0))));
+  auto message = [&](int decimation, uint64_t max_points) {
+    try {
+      ndtom::io::readDepthImagePoints(png, ndtom::io::DepthCamera{}, decimation, max_points);
+    } catch (const ndtom::io::TumError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message(1, ndtom::io::kMaxDepthImagePixels).find("5000 x 5000 pixels"),
+            std::string::npos);
+  cv::imwrite(png, cv::Mat(480, 640, CV_16UC1, cv::Scalar(1000)));
+  EXPECT_NE(message(1, 1000).find("up to 307200 points"), std::string::npos) << message(1, 1000);
+  EXPECT_EQ(message(32, 1000), "accepted");  // 15 x 20 points
+  EXPECT_EQ(ndtom::io::readDepthImagePoints(png, ndtom::io::DepthCamera{}, 32, 1000).size(), 300u);
+  std::remove(png.c_str());
+}
+
+TEST(TumRgbd, RefusesFilesThatAreNotRegularFiles) {
+  const ndtom::testing::Fifo fifo(::testing::TempDir() + "/depth-fifo.png");
+  for (const std::string& path : {fifo.path(), ndtom::testing::kEndlessFile}) {
+    try {
+      ndtom::io::readDepthImagePoints(path, ndtom::io::DepthCamera{});
+      FAIL() << path << " accepted";
+    } catch (const ndtom::io::TumError& e) {
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+  }
+  const fs::path dir = freshDir("tum_fifo_table");
+  const ndtom::testing::Fifo table((dir / "associations.txt").string());
+  EXPECT_THROW(readTumSequence(dir.string()), ndtom::io::TumError);
 }

@@ -1,7 +1,10 @@
 // Every kind of bad input gives a one-line message naming the file or option, a non-zero
 // exit code (1: bad data, 2: bad command line), and no output file at all under the prefix,
 // even when the failure comes after some scans were mapped.
+#include <map>
+
 #include "mapper_run.h"
+#include "support/special_files.h"
 
 using namespace mapper_test;
 
@@ -131,4 +134,68 @@ TEST(MapperErrors, UsageMistakes) {
   EXPECT_EQ(run.exit_code, 0);
   EXPECT_NE(run.out.find("Usage: ndtom-map INPUT -o PREFIX"), std::string::npos);
   EXPECT_NE(run.out.find("--p-hit"), std::string::npos);
+}
+
+// Issue #17, class 7: a missing --poses file is a bad option value (it exited 1); --coarse is
+// checked with --resolution before mapping (it failed after, naming the coarse resolution);
+// FIFOs and devices are refused, where a FIFO named scan.pcd hung the run and /dev/zero as a
+// poses file was read for 2 GB.
+TEST(MapperErrors, HostileFilesAndOptionCombinations) {
+  TempDir dir;
+  copyLidarScans(dir / "scans");
+  fs::copy_file(kLidar + "/poses.txt", dir / "scans/poses.txt");
+  const std::string scans = (dir / "scans").string();
+  expectFailure(dir, scans,
+                {"--poses /nonexistent/poses.txt", 2, "--poses /nonexistent/poses.txt"});
+  expectFailure(dir, scans, {"--poses /dev/zero", 2, "--poses /dev/zero: a device"});
+  expectFailure(dir, kTum,
+                {"--resolution 600 --coarse 2", 2, "--coarse 2: the coarse map's cells"});
+  expectFailure(dir, kTum, {"--config /dev/zero", 2, "--config /dev/zero: a device"});
+  expectFailure(dir, "/dev/zero", {"--format rawlog", 2, "INPUT /dev/zero: a device"});
+  {
+    const ndtom::testing::Fifo fifo((dir / "scans/full5.pcd").string(), 5.0);
+    expectFailure(dir, scans, {"", 1, "full5.pcd: a FIFO, not a regular file"});
+  }
+  const ndtom::testing::Fifo log((dir / "fifo.rawlog").string(), 5.0);
+  expectFailure(dir, log.path(), {"", 2, "fifo.rawlog: a FIFO"});
+}
+
+// Issue #17, class 2: a scan that would take the map over the memory budget stops the run
+// before its blocks are allocated, naming the scan, the input, the option and the numbers
+// (at --resolution 0.001 one TUM frame took over 4 GB).
+TEST(MapperErrors, ScanOverTheMemoryBudget) {
+  TempDir dir;
+  expectFailure(
+      dir, kTum,
+      {"--resolution 0.001 --max-scans 1", 1,
+       "depth/1311877813.991479.png in " + kTum + ": insertScan: a scan whose hits lie in"});
+  expectFailure(dir, kTum,
+                {"--resolution 0.001 --max-scans 1 --memory-budget 300", 1,
+                 "over the memory budget of 300.0 MB (--memory-budget, in MB)"});
+  expectFailure(dir, kTum, {"--memory-budget 0.5", 2, "memory_budget = 0.5"});
+}
+
+// Issue #17, class 6: a rerun that cannot replace one output (here a folder now stands in its
+// place) leaves every previous output as it was. Before, it failed with three outputs new
+// and two old.
+TEST(MapperErrors, OutputsAreReplacedAllOrNone) {
+  TempDir dir;
+  const std::string prefix = (dir / "out").string();
+  ProgramRun run = runMapper(quoted(kTum) + " -q --max-scans 3 -o " + quoted(prefix), dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::vector<std::string> names = outputsOf(dir, "out");
+  ASSERT_EQ(names.size(), 6u);
+  std::map<std::string, std::string> before;
+  for (const auto& n : names) before[n] = readText(dir / n);
+  fs::remove(dir / "out.3d.png");
+  fs::create_directories(dir / "out.3d.png");
+  run = runMapper(quoted(kTum) + " -q --max-scans 5 -o " + quoted(prefix), dir);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("cannot replace " + prefix + ".3d.png: a folder"), std::string::npos)
+      << run.err;
+  for (const auto& [name, bytes] : before) {
+    if (name == "out.3d.png") continue;
+    EXPECT_TRUE(sameBytes(readText(dir / name), bytes)) << name;
+  }
+  EXPECT_EQ(outputsOf(dir, "out").size(), 6u) << "no temporary left";
 }

@@ -158,7 +158,7 @@ TEST(IniOptions, SaveLoadRoundTripIsExact) {
   EXPECT_TRUE(lik == map->likelihoodOptions) << saved.getContent();
   EXPECT_EQ(ins.threads, 2) << saved.getContent();
 
-  // Defaults too, including max_range = inf.
+  // Defaults too (max_range 100, the machine's memory budget).
   mrpt::config::CConfigFileMemory defaults;
   CNDTOccupancyMap::TInsertionOptions().saveToConfigFile(defaults, "d");
   EXPECT_TRUE(loadInsertion(defaults.getContent().substr(defaults.getContent().find('\n') + 1)) ==
@@ -169,9 +169,10 @@ TEST(IniOptions, DumpListsEveryOptionWithAComment) {
   std::ostringstream ins, lik;
   CNDTOccupancyMap::TInsertionOptions().dumpToTextStream(ins);
   CNDTOccupancyMap::TLikelihoodOptions().dumpToTextStream(lik);
-  for (const char* key : {"resolution", "occupancy_enabled", "p_hit", "p_miss", "logodds_min",
-                          "logodds_max", "min_range", "max_range", "ray_mode", "decimation",
-                          "decimation_3d_range", "min_eigen_ratio", "min_eigen_abs", "threads"})
+  for (const char* key :
+       {"resolution", "occupancy_enabled", "p_hit", "p_miss", "logodds_min", "logodds_max",
+        "min_range", "max_range", "ray_mode", "decimation", "decimation_3d_range",
+        "min_eigen_ratio", "min_eigen_abs", "threads", "memory_budget"})
     EXPECT_NE(ins.str().find(key), std::string::npos) << key;
   for (const char* key :
        {"likelihood_method", "decimation", "decimation_3d_range", "outlier_likelihood",
@@ -215,6 +216,8 @@ TEST(IniOptions, BadValuesFailAtLoadNamingTheOption) {
       {"ray_mode = Sideways", "ray_mode"},
       {"ray_mode = 7", "ray_mode"},
       {"min_eigen_ratio = 2", "min_eigen_ratio"},
+      {"memory_budget = 0.5", "memory_budget"},
+      {"memory_budget = inf", "memory_budget"},
   };
   for (const auto& [body, option] : cases) {
     const std::string msg = errorOf([&] { loadInsertion(body); });

@@ -187,3 +187,53 @@ TEST(InsertReal, TwoThreadsBuildTheSameMapAsOne) {
     EXPECT_TRUE(archiveBytes(one) == archiveBytes(two)) << ndtom::toString(mode);
   }
 }
+
+// The memory budget through the plugin (issue #17): a 153-byte rawlog's one 2D scan at 6 km,
+// with no range limit, took over 4 GB; with memory_budget = 64 (MB) it is refused with the
+// option named, the map unchanged, and the default max_range (100 m) makes it harmless.
+TEST(InsertReal, ScanOverTheMemoryBudgetIsRefusedAndTheMapKept) {
+  mrpt::obs::CObservation2DRangeScan scan;
+  scan.aperture = float(M_PI);
+  scan.resizeScan(361);
+  for (size_t i = 0; i < 361; ++i) {
+    scan.setScanRange(i, 6000.f);
+    scan.setScanRangeValidity(i, true);
+  }
+  scan.maxRange = 8000.f;
+  CNDTOccupancyMap map(0.2);
+  const auto scans = ndtom::testing::balmPoses();
+  mrpt::obs::CObservationPointCloud near;
+  near.pointcloud = ndtom::testing::balmScan(0);
+  ASSERT_TRUE(map.insertObservation(near, scans[0]));
+  // Every cell's bytes (the archive would also show the options the next insertion applies).
+  auto cells = [](const CNDTOccupancyMap& m) {
+    std::vector<uint8_t> bytes;
+    m.ndtMap().forEachCellOrdered([&](const ndtom::CellView& c) {
+      const auto* p = reinterpret_cast<const uint8_t*>(&c.index);
+      bytes.insert(bytes.end(), p, p + sizeof(c.index));
+      p = reinterpret_cast<const uint8_t*>(&c.logodds);
+      bytes.insert(bytes.end(), p, p + sizeof(c.logodds));
+      if (!c.stats) return;
+      for (const double v : {c.stats->mean.x(), c.stats->mean.y(), c.stats->mean.z(),
+                             double(c.stats->n), c.stats->scatter.sum()}) {
+        p = reinterpret_cast<const uint8_t*>(&v);
+        bytes.insert(bytes.end(), p, p + sizeof(v));
+      }
+    });
+    return bytes;
+  };
+  const auto before = cells(map);
+  map.insertionOptions.max_range = std::numeric_limits<double>::infinity();
+  map.insertionOptions.memory_budget = 64;
+  try {
+    map.insertObservation(scan, CPose3D());
+    FAIL() << "accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("memory budget of 64"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(memory_budget)"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(cells(map) == before) << "the refused scan changed the map";
+  map.insertionOptions.max_range = ndtom::kDefaultMaxRange;
+  EXPECT_TRUE(map.insertObservation(scan, CPose3D()));  // truncated at 100 m: 500 cells a ray
+  EXPECT_GT(map.lastInsertionReport().truncated, 300u);
+}

@@ -45,6 +45,7 @@ TEST(OptionLimits, AbsurdValuesAreRefusedNamingTheOption) {
       },
       "max_range");
   expectRejected([](ndtom::MapOptions& o) { o.insertion.threads = 0; }, "threads");
+  expectRejected([](ndtom::MapOptions& o) { o.insertion.memory_budget = 999999; }, "memory_budget");
   expectRejected([](ndtom::MapOptions& o) { o.insertion.ray_mode = ndtom::RayMode(7); },
                  "ray_mode");
   expectRejected([](ndtom::MapOptions& o) { o.regularization.min_eigen_ratio = 2; },

@@ -56,8 +56,8 @@ struct RegisterClasses {
 namespace mrpt_ndtom {
 namespace {
 
-// Leaves out insertion.threads: it does not change the map, so a new count must not rebuild
-// it (insertPoints passes the count with each scan).
+// Leaves out insertion.threads and memory_budget: they do not change the map, so a new value
+// must not rebuild it (insertPoints passes them with each scan).
 bool sameOptions(const ndtom::MapOptions& a, const ndtom::MapOptions& b) {
   return a.resolution == b.resolution && a.occupancy.enabled == b.occupancy.enabled &&
          a.occupancy.p_hit == b.occupancy.p_hit && a.occupancy.p_miss == b.occupancy.p_miss &&
@@ -71,8 +71,14 @@ bool sameOptions(const ndtom::MapOptions& a, const ndtom::MapOptions& b) {
 }
 
 // The `size` bytes of the map data, read in chunks so that a corrupt size fails at the end of
-// the data present, not in one huge allocation.
-std::vector<uint8_t> readMapBytes(mrpt::serialization::CArchive& in, uint64_t size) {
+// the data present, not in one huge allocation; a size over the memory budget (a compressed
+// archive can expand a thousandfold) is refused before reading.
+std::vector<uint8_t> readMapBytes(mrpt::serialization::CArchive& in, uint64_t size,
+                                  uint64_t budget) {
+  if (size > budget)
+    throw ndtom::MemoryBudgetError(
+        "CNDTOccupancyMap: map data of " + std::to_string(size) + " bytes in the archive", size,
+        budget);
   constexpr uint64_t kChunk = uint64_t(1) << 20;
   std::vector<uint8_t> bytes;
   try {
@@ -257,9 +263,9 @@ void CNDTOccupancyMap::serializeTo(mrpt::serialization::CArchive& out) const {
   likelihoodOptions.writeToStream(out);
   renderOptions.writeToStream(out);
   out << genericMapParams;
-  const std::vector<uint8_t> bytes = ndtom::encodeMap(m_map);
-  out << uint64_t(bytes.size());
-  out.WriteBuffer(bytes.data(), bytes.size());
+  // Streamed: no copy of the whole encoding (a map's bytes can be several times its memory).
+  out << uint64_t(ndtom::encodedMapSize(m_map));
+  ndtom::encodeMap(m_map, [&](const uint8_t* data, size_t size) { out.WriteBuffer(data, size); });
 }
 
 // Corrupt data throws a std::exception naming the problem and leaves the map as it was:
@@ -282,9 +288,12 @@ void CNDTOccupancyMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
                              "genericMapParams.enableObservationInsertion");
       uint64_t size = 0;
       in >> size;
-      const std::vector<uint8_t> bytes = readMapBytes(in, size);
+      // This object's budget (insertion.memory_budget is this object's too): a corrupt
+      // archive cannot raise it.
+      const uint64_t budget = insertion.toMapOptions().insertion.memory_budget;
+      const std::vector<uint8_t> bytes = readMapBytes(in, size, budget);
       ndtom::NdtMap map =
-          ndtom::decodeMap(bytes.data(), bytes.size(), "MRPT archive (CNDTOccupancyMap)");
+          ndtom::decodeMap(bytes.data(), bytes.size(), "MRPT archive (CNDTOccupancyMap)", budget);
       insertionOptions = insertion;
       likelihoodOptions = likelihood;
       renderOptions = render;

@@ -6,12 +6,13 @@ namespace mrpt_ndtom {
 ndtom::InsertionReport CNDTOccupancyMap::insertPoints(
     const std::vector<Eigen::Vector3d>& points_world, const Eigen::Vector3d& sensor_origin) {
   applyInsertionOptions();
-  ndtom::InsertOptions insert = m_map.options().insertion;
-  insert.threads = insertionOptions.threads;  // validated by applyInsertionOptions
+  // threads and the memory budget do not change the map: taken from insertionOptions at
+  // each scan (validated by applyInsertionOptions), not by rebuilding the map.
+  const ndtom::InsertOptions insert = insertionOptions.toMapOptions().insertion;
   ndtom::InsertionReport report;
   try {
     report = m_map.insertScan(points_world, sensor_origin, insert);
-  } catch (const std::exception& e) {  // a bad origin; the map is left unchanged
+  } catch (const std::exception& e) {  // a bad origin, the memory budget; the map unchanged
     THROW_EXCEPTION(std::string("CNDTOccupancyMap: ") + e.what());
   }
   if (report.pointsUsed() > 0) {

@@ -73,6 +73,7 @@ void CNDTOccupancyMap::TInsertionOptions::loadFromConfigFile(
   MRPT_LOAD_CONFIG_VAR(min_eigen_abs, double, source, section);
   threads = int(detail::readInteger(source, section, "threads", threads, 1,
                                     ndtom::InsertOptions::kMaxThreads));
+  MRPT_LOAD_CONFIG_VAR(memory_budget, double, source, section);
   validateSection(section, [this] { toMapOptions(); });
 }
 
@@ -95,6 +96,8 @@ void CNDTOccupancyMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfig
                                "Covariance eigenvalue floor, relative to the largest");
   MRPT_SAVE_CONFIG_VAR_COMMENT(min_eigen_abs, "Covariance eigenvalue floor [m^2]");
   MRPT_SAVE_CONFIG_VAR_COMMENT(threads, "Threads inserting a scan, in [1, 256]; same map for any");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(memory_budget,
+                               "MB the map and a scan may take; larger scans are refused");
 }
 
 ndtom::MapOptions CNDTOccupancyMap::TInsertionOptions::toMapOptions() const {
@@ -111,6 +114,10 @@ ndtom::MapOptions CNDTOccupancyMap::TInsertionOptions::toMapOptions() const {
   o.insertion.max_range = max_range;
   o.insertion.ray_mode = ray_mode;
   o.insertion.threads = threads;
+  if (!(memory_budget >= 1 && memory_budget <= 1e12))  // before the conversion to bytes
+    throw std::invalid_argument("memory_budget = " + std::to_string(memory_budget) +
+                                ": must be in [1, 1e12] MB");
+  o.insertion.memory_budget = uint64_t(memory_budget * 1e6);
   o.regularization.min_eigen_ratio = min_eigen_ratio;
   o.regularization.min_eigen_abs = min_eigen_abs;
   ndtom::validate(o);
@@ -130,11 +137,13 @@ void CNDTOccupancyMap::TInsertionOptions::writeToStream(mrpt::serialization::CAr
 }
 
 // Reads into a copy and validates it: corrupt data throws (naming the option) and leaves the
-// options as they were. Version 0 archives insert with threads = 1, the default.
+// options as they were. Version 0 archives insert with threads = 1, the default. The memory
+// budget is not stored: this object's own is kept.
 void CNDTOccupancyMap::TInsertionOptions::readFromStream(mrpt::serialization::CArchive& in) {
   uint8_t version;
   in >> version;
   TInsertionOptions read;
+  read.memory_budget = memory_budget;
   switch (version) {
     case 0:
     case 1: {
@@ -162,7 +171,8 @@ bool CNDTOccupancyMap::TInsertionOptions::operator==(const TInsertionOptions& o)
          logodds_max == o.logodds_max && min_range == o.min_range && max_range == o.max_range &&
          ray_mode == o.ray_mode && decimation == o.decimation &&
          decimation_3d_range == o.decimation_3d_range && min_eigen_ratio == o.min_eigen_ratio &&
-         min_eigen_abs == o.min_eigen_abs && threads == o.threads;
+         min_eigen_abs == o.min_eigen_abs && threads == o.threads &&
+         memory_budget == o.memory_budget;
 }
 
 // --- TLikelihoodOptions ------------------------------------------------------------------

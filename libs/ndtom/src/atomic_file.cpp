@@ -15,6 +15,38 @@ namespace {
   throw std::runtime_error(what + " " + path + ": " + std::strerror(err));
 }
 
+// Writes `path` through `fill` and syncs it; on failure removes it and throws naming `name`.
+void writeSynced(const std::string& path, const std::string& name, const FileFiller& fill) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) failWith("cannot write", name, errno);
+  int err = 0;
+  const FileSink sink = [&](const void* data, size_t size) {
+    const auto* bytes = static_cast<const char*>(data);
+    for (size_t done = 0; done < size;) {
+      const ssize_t n = ::write(fd, bytes + done, size - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        err = n < 0 ? errno : EIO;
+        failWith("cannot write", name, err);
+      }
+      done += size_t(n);
+    }
+  };
+  try {
+    fill(sink);
+  } catch (...) {
+    ::close(fd);
+    ::unlink(path.c_str());
+    throw;
+  }
+  if (::fsync(fd) != 0) err = errno;
+  if (::close(fd) != 0 && err == 0) err = errno;
+  if (err != 0) {
+    ::unlink(path.c_str());
+    failWith("cannot write", name, err);
+  }
+}
+
 }  // namespace
 
 std::string temporaryPathFor(const std::string& path) {
@@ -26,32 +58,29 @@ void renameFile(const std::string& from, const std::string& to) {
 }
 
 void writeFileAtomically(const std::string& path, const void* data, size_t size) {
+  writeFileAtomically(path, [&](const FileSink& write) { write(data, size); });
+}
+
+void writeFileAtomically(const std::string& path, const FileFiller& fill) {
   const std::string tmp = temporaryPathFor(path);
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) failWith("cannot write", path, errno);
-  const auto* bytes = static_cast<const char*>(data);
-  size_t done = 0;
-  int err = 0;
-  while (done < size) {
-    const ssize_t n = ::write(fd, bytes + done, size - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      err = n < 0 ? errno : EIO;
-      break;
-    }
-    done += size_t(n);
-  }
-  if (err == 0 && ::fsync(fd) != 0) err = errno;
-  if (::close(fd) != 0 && err == 0) err = errno;
-  if (err != 0) {
-    ::unlink(tmp.c_str());
-    failWith("cannot write", path, err);
-  }
+  writeSynced(tmp, path, fill);
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    err = errno;
+    const int err = errno;
     ::unlink(tmp.c_str());
     failWith("cannot rename to", path, err);
   }
+}
+
+void writeFileSynced(const std::string& path, const FileFiller& fill) {
+  writeSynced(path, path, fill);
+}
+
+void syncFile(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) failWith("cannot write", path, errno);
+  const int err = ::fsync(fd) == 0 ? 0 : errno;
+  ::close(fd);
+  if (err != 0) failWith("cannot write", path, err);
 }
 
 }  // namespace ndtom

@@ -1,5 +1,7 @@
 #include "ndtom/cell_stats.h"
 
+#include <algorithm>
+
 namespace ndtom {
 namespace {
 
@@ -28,16 +30,16 @@ void CellStats::merge(const CellStats& other) {
   addWeightedOuterProduct(scatter, delta, m * k / total);
   // Eq. 2, written as an increment so equal means stay bit-exact.
   mean += (k / total) * delta;
-  n += other.n;
+  n = uint32_t(std::min<uint64_t>(uint64_t(n) + other.n, kMaxCellPoints));
 }
 
 CellStats CellStats::fromPoints(const std::vector<Eigen::Vector3d>& relative_points) {
   CellStats s;
   if (relative_points.empty()) return s;
-  s.n = uint32_t(relative_points.size());
+  s.n = uint32_t(std::min<uint64_t>(relative_points.size(), kMaxCellPoints));
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const auto& p : relative_points) sum += p;
-  s.mean = sum / double(s.n);
+  s.mean = sum / double(relative_points.size());
   for (const auto& p : relative_points) {
     addWeightedOuterProduct(s.scatter, p - s.mean, 1.0);
   }

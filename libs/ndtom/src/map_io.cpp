@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <functional>
-#include <iterator>
 #include <unordered_set>
 
 #include "ndtom/atomic_file.h"
+#include "ndtom/cell_rules.h"
+#include "ndtom/checked_size.h"
 #include "ndtom/crc32.h"
+#include "ndtom/input_file.h"
 
 namespace ndtom {
 namespace {
@@ -19,12 +20,31 @@ constexpr size_t kCellHeaderBytes = 5 * 4;
 constexpr size_t kCellStatsBytes = 9 * 8;
 constexpr uint32_t kMaxOptions = 256;
 
+// Encodes into a buffer handed to `sink` every kChunk bytes, with the running CRC: a map of
+// any size is written through 1 MB of memory.
 class ByteWriter {
  public:
-  explicit ByteWriter(std::vector<uint8_t>& out) : out_(out) {}
+  static constexpr size_t kChunk = size_t(1) << 20;
+  explicit ByteWriter(const MapByteSink& sink) : sink_(sink) { out_.reserve(kChunk + 128); }
   void bytes(const void* p, size_t n) {
     const auto* b = static_cast<const uint8_t*>(p);
     out_.insert(out_.end(), b, b + n);
+  }
+  /// Hands over what is buffered if it is a chunk or more.
+  void maybeFlush() {
+    if (out_.size() >= kChunk) flush();
+  }
+  void flush() {
+    crc_ = crc32(out_.data(), out_.size(), crc_);
+    sink_(out_.data(), out_.size());
+    out_.clear();
+  }
+  /// Appends the CRC of everything written and hands the rest over.
+  void finish() {
+    const uint32_t crc = crc32(out_.data(), out_.size(), crc_);
+    u32(crc);
+    sink_(out_.data(), out_.size());
+    out_.clear();
   }
   void u8(uint8_t v) { out_.push_back(v); }
   void u32(uint32_t v) {
@@ -46,7 +66,9 @@ class ByteWriter {
   }
 
  private:
-  std::vector<uint8_t>& out_;
+  const MapByteSink& sink_;
+  std::vector<uint8_t> out_;
+  uint32_t crc_ = 0;
 };
 
 class ByteReader {
@@ -98,11 +120,6 @@ class ByteReader {
     std::memcpy(&v, &u, 8);
     return v;
   }
-  double finite64(const char* what) {
-    const double v = f64();
-    if (!std::isfinite(v)) fail(std::string("non-finite ") + what);
-    return v;
-  }
 
  private:
   const uint8_t* data_;
@@ -123,7 +140,11 @@ const std::vector<OptionField>& optionFields() {
       {"resolution", [](const MapOptions& o) { return o.resolution; },
        [](MapOptions& o, double v) { o.resolution = v; }},
       {"occupancy_enabled", [](const MapOptions& o) { return o.occupancy.enabled ? 1.0 : 0.0; },
-       [](MapOptions& o, double v) { o.occupancy.enabled = v != 0.0; }},
+       [](MapOptions& o, double v) {
+         // Exactly 0 or 1: 0.5, 2 or NaN would otherwise read as true.
+         if (v != 0.0 && v != 1.0) throw std::invalid_argument("occupancy_enabled: not 0 or 1");
+         o.occupancy.enabled = v == 1.0;
+       }},
       {"p_hit", [](const MapOptions& o) { return o.occupancy.p_hit; },
        [](MapOptions& o, double v) { o.occupancy.p_hit = v; }},
       {"p_miss", [](const MapOptions& o) { return o.occupancy.p_miss; },
@@ -180,10 +201,16 @@ MapOptions readOptions(ByteReader& in) {
 
 }  // namespace
 
-std::vector<uint8_t> encodeMap(const NdtMap& map) {
-  std::vector<uint8_t> out;
-  out.reserve(64 + map.numCells() * (kCellHeaderBytes + 8) + map.numGaussians() * kCellStatsBytes);
-  ByteWriter w(out);
+uint64_t encodedMapSize(const NdtMap& map) {
+  uint64_t size = sizeof(kMagic) + 4 + 4 + 8 + 4;  // magic, version, option count, cells, CRC
+  for (const OptionField& f : optionFields()) size += 1 + std::strlen(f.name) + 8;
+  size += uint64_t(map.numCells()) * kCellHeaderBytes;
+  map.forEachCell([&](const CellView& c) { size += c.stats ? kCellStatsBytes : 0; });
+  return size;
+}
+
+void encodeMap(const NdtMap& map, const MapByteSink& sink) {
+  ByteWriter w(sink);
   w.bytes(kMagic, sizeof(kMagic));
   w.u32(kMapFormatVersion);
   w.u32(uint32_t(optionFields().size()));
@@ -201,16 +228,26 @@ std::vector<uint8_t> encodeMap(const NdtMap& map) {
     w.f32(c.logodds);
     const uint32_t n = c.stats ? c.stats->n : 0;
     w.u32(n);
-    if (n == 0) return;
-    for (int a = 0; a < 3; ++a) w.f64(c.stats->mean[a]);
-    const Eigen::Matrix3d& s = c.stats->scatter;
-    for (const double v : {s(0, 0), s(0, 1), s(0, 2), s(1, 1), s(1, 2), s(2, 2)}) w.f64(v);
+    if (n > 0) {
+      for (int a = 0; a < 3; ++a) w.f64(c.stats->mean[a]);
+      const Eigen::Matrix3d& s = c.stats->scatter;
+      for (const double v : {s(0, 0), s(0, 1), s(0, 2), s(1, 1), s(1, 2), s(2, 2)}) w.f64(v);
+    }
+    w.maybeFlush();
   });
-  w.u32(crc32(out.data(), out.size()));
+  w.finish();
+}
+
+std::vector<uint8_t> encodeMap(const NdtMap& map) {
+  std::vector<uint8_t> out;
+  out.reserve(size_t(encodedMapSize(map)));
+  encodeMap(map,
+            [&](const uint8_t* data, size_t size) { out.insert(out.end(), data, data + size); });
   return out;
 }
 
-NdtMap decodeMap(const uint8_t* data, size_t size, const std::string& source) {
+NdtMap decodeMap(const uint8_t* data, size_t size, const std::string& source,
+                 uint64_t memory_budget) {
   ByteReader in(data, size, source);
   char magic[sizeof(kMagic)];
   in.bytes(magic, sizeof(magic));
@@ -222,44 +259,38 @@ NdtMap decodeMap(const uint8_t* data, size_t size, const std::string& source) {
   const uint32_t version = in.u32();
   if (version != kMapFormatVersion)
     in.fail("unsupported format version " + std::to_string(version));
-  NdtMap map(readOptions(in));
+  MapOptions options = readOptions(in);
+  options.insertion.memory_budget = memory_budget;
+  NdtMap map(options);
 
   const uint64_t cells = in.u64();
-  if (cells > (in.remaining() - 4) / kCellHeaderBytes)
+  // Each cell takes at least kCellHeaderBytes, and the CRC follows them: a count is checked
+  // against the bytes left before anything is allocated for it.
+  if (in.remaining() < 4 || !fitsIn(cells, kCellHeaderBytes, in.remaining() - 4))
     in.fail("cell count " + std::to_string(cells) + " exceeds the file size");
-  const double half_cell = 0.5 * map.geometry().resolution() * (1 + 1e-9);
-  const OccupancyOptions& occ = map.options().occupancy;
-  std::unordered_set<CellIndex, CellIndexHash> seen;
-  seen.reserve(size_t(cells));
   for (uint64_t k = 0; k < cells; ++k) {
     CellIndex index;
-    for (int a = 0; a < 3; ++a) {
-      index[a] = in.i32();
-      if (!(std::abs(int64_t(index[a])) < kMaxCellIndex - 1)) in.fail("cell index out of range");
-    }
-    if (!seen.insert(index).second) in.fail("duplicate cell");
+    for (int a = 0; a < 3; ++a) index[a] = in.i32();
     const float logodds = in.f32();
-    if (!(std::isfinite(logodds) && logodds >= float(occ.logodds_min) &&
-          logodds <= float(occ.logodds_max)))
-      in.fail("log-odds outside the clamp bounds");
     CellStats stats;
     stats.n = in.u32();
     if (stats.n > 0) {
-      for (int a = 0; a < 3; ++a) {
-        stats.mean[a] = in.finite64("mean");
-        if (std::abs(stats.mean[a]) > half_cell) in.fail("mean outside its cell");
-      }
+      for (int a = 0; a < 3; ++a) stats.mean[a] = in.f64();
       Eigen::Matrix3d& s = stats.scatter;
-      s(0, 0) = in.finite64("scatter");
-      s(0, 1) = s(1, 0) = in.finite64("scatter");
-      s(0, 2) = s(2, 0) = in.finite64("scatter");
-      s(1, 1) = in.finite64("scatter");
-      s(1, 2) = s(2, 1) = in.finite64("scatter");
-      s(2, 2) = in.finite64("scatter");
-      if (s(0, 0) < 0 || s(1, 1) < 0 || s(2, 2) < 0) in.fail("negative scatter variance");
-      if (occ.enabled && logodds <= 0.f) in.fail("statistics in an empty cell");
+      s(0, 0) = in.f64();
+      s(0, 1) = s(1, 0) = in.f64();
+      s(0, 2) = s(2, 0) = in.f64();
+      s(1, 1) = in.f64();
+      s(1, 2) = s(2, 1) = in.f64();
+      s(2, 2) = in.f64();
     }
-    map.setCell(index, logodds, stats);
+    if (const char* problem = cellProblem(index, logodds, stats, map.options())) in.fail(problem);
+    try {
+      if (!map.setCell(index, logodds, stats)) in.fail("duplicate cell");
+    } catch (const MemoryBudgetError& e) {
+      throw MemoryBudgetError(source + ": loading " + std::to_string(cells) + " cells", e.needed(),
+                              e.budget());
+    }
   }
   if (in.remaining() != 4) in.fail("unexpected bytes after the cells");
   map.shrinkToFit();
@@ -267,17 +298,19 @@ NdtMap decodeMap(const uint8_t* data, size_t size, const std::string& source) {
 }
 
 void saveMap(const NdtMap& map, const std::string& path) {
-  const std::vector<uint8_t> bytes = encodeMap(map);
-  writeFileAtomically(path, bytes.data(), bytes.size());
+  writeFileAtomically(path, [&](const FileSink& write) {
+    encodeMap(map, [&](const uint8_t* data, size_t size) { write(data, size); });
+  });
 }
 
-NdtMap loadMap(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw std::runtime_error("cannot open " + path);
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)),
-                             std::istreambuf_iterator<char>());
-  if (file.bad()) throw std::runtime_error("cannot read " + path);
-  return decodeMap(bytes.data(), bytes.size(), path);
+NdtMap loadMap(const std::string& path, uint64_t memory_budget) {
+  // The whole file is read: one larger than the budget cannot load within it.
+  const uint64_t size = checkInputFile(path, UINT64_MAX, "map file");
+  if (size > memory_budget)
+    throw MemoryBudgetError("loading map file " + path, size, memory_budget);
+  const std::string bytes = readInputFile(path, memory_budget, "map file");
+  return decodeMap(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), path,
+                   memory_budget);
 }
 
 }  // namespace ndtom

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "ndtom/cell_rules.h"
 #include "scan_update.h"
 
 namespace ndtom {
@@ -30,6 +31,34 @@ NdtMap::NdtMap(const MapOptions& options) : options_(options), geometry_(options
 void NdtMap::touch() {
   static std::atomic<uint64_t> last_revision{0};
   revision_ = last_revision.fetch_add(1, std::memory_order_relaxed) + 1;
+}
+
+// A copy's statistics arrays hold no spare room: their bytes are counted again.
+NdtMap::NdtMap(const NdtMap& other)
+    : options_(other.options_),
+      geometry_(other.geometry_),
+      grid_(other.grid_),
+      num_cells_(other.num_cells_),
+      revision_(other.revision_) {
+  stats_bytes_ = memoryBytesCounted() - grid_.memoryBytes();
+}
+
+// Member by member, keeping this map's scratch (and its worker threads), as before.
+NdtMap& NdtMap::operator=(const NdtMap& other) {
+  if (this == &other) return *this;
+  options_ = other.options_;
+  geometry_ = other.geometry_;
+  grid_ = other.grid_;
+  num_cells_ = other.num_cells_;
+  revision_ = other.revision_;
+  stats_bytes_ = memoryBytesCounted() - grid_.memoryBytes();
+  return *this;
+}
+
+size_t NdtMap::statsBytes(const std::vector<CellStats>& stats) {
+  // glibc's malloc: a chunk header and rounding to 16 bytes for each statistics array.
+  constexpr size_t kHeapBlockOverhead = 16;
+  return stats.capacity() == 0 ? 0 : stats.capacity() * sizeof(CellStats) + kHeapBlockOverhead;
 }
 
 float NdtMap::clampLogOdds(double l) const {
@@ -97,13 +126,17 @@ std::optional<Gaussian> NdtMap::gaussian(const CellIndex& index, bool regularize
   return gaussianOf(*c, regularized);
 }
 
+uint64_t NdtMap::maxScanPoints(uint64_t budget) {
+  return budget / ScanUpdater::kBytesPerPoint;
+}
+
 size_t NdtMap::memoryBytes() const {
-  // glibc's malloc: a chunk header and rounding to 16 bytes for each statistics array.
-  constexpr size_t kHeapBlockOverhead = 16;
+  return grid_.memoryBytes() + stats_bytes_;
+}
+
+size_t NdtMap::memoryBytesCounted() const {
   size_t bytes = grid_.memoryBytes();
-  for (const auto& [block_index, block] : grid_.blocks())
-    if (const size_t capacity = block->stats.capacity())
-      bytes += capacity * sizeof(CellStats) + kHeapBlockOverhead;
+  for (const auto& [block_index, block] : grid_.blocks()) bytes += statsBytes(block->stats);
   return bytes;
 }
 
@@ -112,32 +145,54 @@ void NdtMap::clear() {
   grid_.clear();
   scratch_ = Scratch();
   num_cells_ = 0;
+  stats_bytes_ = 0;
 }
 
-void NdtMap::setCell(const CellIndex& index, float logodds, const CellStats& stats) {
-  for (int a = 0; a < 3; ++a)
-    if (!(std::abs(index[a]) < kMaxCellIndex - 1))
-      throw std::invalid_argument("setCell: cell index outside the supported range");
+void NdtMap::checkRoomForBlocks(size_t new_blocks, const char* what) const {
+  const uint64_t need = grid_.memoryBytes() + new_blocks * grid_.kBytesPerBlock;
+  if (need > options_.insertion.memory_budget)
+    throw MemoryBudgetError(
+        std::string(what) + ": a map of " + std::to_string(grid_.size() + new_blocks) + " blocks",
+        need, options_.insertion.memory_budget);
+}
+
+bool NdtMap::setCell(const CellIndex& index, float logodds, const CellStats& stats) {
+  if (!std::isfinite(logodds)) throw std::invalid_argument("setCell: non-finite log-odds");
+  const float clamped = clampLogOdds(logodds);
+  if (const char* problem = cellProblem(index, clamped, stats, options_))
+    throw std::invalid_argument(std::string("setCell: ") + problem);
   touch();
-  Block& block = grid_.getOrCreate(blockOf(index));
+  Block* block = grid_.find(blockOf(index));
+  if (!block) {
+    checkRoomForBlocks(1, "setCell");
+    block = &grid_.getOrCreate(blockOf(index));
+  }
   const int i = offsetInBlock(index);
-  if (!block.known[i]) {
-    block.known.set(i);
+  const bool created = !block->known[i];
+  if (created) {
+    block->known.set(i);
     ++num_cells_;
   }
-  block.logodds[i] = clampLogOdds(logodds);
+  block->logodds[i] = clamped;
+  const size_t bytes_before = statsBytes(block->stats);
   if (stats.n == 0) {
-    if (block.hasStats(i)) block.eraseStats(i);
-  } else if (block.hasStats(i)) {
-    block.stats[block.statsPos(i)] = stats;
+    if (block->hasStats(i)) block->eraseStats(i);
+  } else if (block->hasStats(i)) {
+    block->stats[block->statsPos(i)] = stats;
   } else {
-    block.stats.insert(block.stats.begin() + std::ptrdiff_t(block.statsPos(i)), stats);
-    block.has_stats[i >> 6] |= uint64_t(1) << (i & 63);
+    block->stats.insert(block->stats.begin() + std::ptrdiff_t(block->statsPos(i)), stats);
+    block->has_stats[i >> 6] |= uint64_t(1) << (i & 63);
   }
+  stats_bytes_ += statsBytes(block->stats) - bytes_before;  // wraps back if it shrank
+  return created;
 }
 
 void NdtMap::shrinkToFit() {
-  for (auto& [index, block] : grid_.blocks()) block->stats.shrink_to_fit();
+  stats_bytes_ = 0;
+  for (auto& [index, block] : grid_.blocks()) {
+    block->stats.shrink_to_fit();
+    stats_bytes_ += statsBytes(block->stats);
+  }
 }
 
 void NdtMap::merge(const NdtMap& other) {
@@ -149,11 +204,16 @@ void NdtMap::merge(const NdtMap& other) {
     merge(copy);
     return;
   }
+  size_t new_blocks = 0;  // checked first: a merge stopped half-way would leave half a map
+  for (const auto& [block_index, block] : other.grid_.blocks())
+    new_blocks += !grid_.find(block_index);
+  checkRoomForBlocks(new_blocks, "merge");
   other.forEachCell([&](const CellView& theirs) {
     const auto mine = cell(theirs.index);
     const double logodds = double(theirs.logodds) + (mine ? double(mine->logodds) : 0.0);
     CellStats stats = mine && mine->stats ? *mine->stats : CellStats{};
     if (theirs.stats) stats.merge(*theirs.stats);
+    stats.clampMean(halfCell());
     if (options_.occupancy.enabled && clampLogOdds(logodds) <= 0.f) stats = CellStats{};
     setCell(
         theirs.index,
@@ -181,6 +241,7 @@ NdtMap NdtMap::coarsened(int factor) const {
       for (int a = 0; a < 3; ++a)
         offset[a] = r * (double(fine.index[a] - index[a] * factor) + 0.5 - 0.5 * factor);
       stats.merge(fine.stats->shifted(-offset));
+      stats.clampMean(coarse.halfCell());
     }
     coarse.setCell(index, logodds, stats);
   });

@@ -61,6 +61,8 @@ void validate(const InsertOptions& o) {
     fail("threads", o.threads, "must be in [1, 256]");
   if (o.ray_mode != RayMode::PerPoint && o.ray_mode != RayMode::PerHitCell)
     fail("ray_mode", double(int(o.ray_mode)), "unknown ray mode");
+  if (!(o.memory_budget >= kMinMemoryBudget))
+    fail("memory_budget", double(o.memory_budget), "must be at least 1000000 bytes (1 MB)");
 }
 
 void validate(const Regularization& r) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <cstring>
 #include <memory>
@@ -26,9 +27,29 @@ struct CountBlock {
   void zero() { std::memset(count.data(), 0, sizeof(count)); }
 };
 
+/// Thrown by ScanCounts when the scan's block limit is reached (see setBlockLimit).
+struct BlockLimitReached {};
+
 class alignas(64) ScanCounts {  // one per thread: no shared cache line
  public:
+  /// Memory one block in use takes: the counters, their owner, the index and table slots.
+  static constexpr size_t kBytesPerBlock =
+      sizeof(CountBlock) + sizeof(std::unique_ptr<CountBlock>) + sizeof(CellIndex) + 4 * 16;
+
   ScanCounts() { rehash(1024); }
+
+  /// Blocks the scan's tables may still add, shared by them (the memory budget); each new
+  /// block in use takes one, and with none left blockAt() throws BlockLimitReached. Checked
+  /// only when a block is added, never per visit. nullptr: no limit.
+  void setBlockLimit(std::atomic<int64_t>* left) { left_ = left; }
+
+  /// Frees every block (after a scan that failed, e.g. over the memory budget).
+  void releaseMemory() {
+    std::vector<std::unique_ptr<CountBlock>>().swap(blocks_);
+    std::vector<CellIndex>().swap(used_);
+    std::vector<Entry>().swap(table_);
+    rehash(1024);
+  }
 
   /// The counters of a block, created (zeroed) on first use this scan.
   CountBlock& blockAt(const CellIndex& block) { return blockFor(block); }
@@ -92,6 +113,7 @@ class alignas(64) ScanCounts {  // one per thread: no shared cache line
       if (e.block == kEmpty) break;
       if (e.key == b) return *blocks_[e.block];
     }
+    if (left_ && left_->fetch_sub(1, std::memory_order_relaxed) <= 0) throw BlockLimitReached{};
     // New block this scan: reuse zeroed memory from earlier scans when there is some.
     const uint32_t index = uint32_t(used_.size());
     if (index == blocks_.size()) {
@@ -133,6 +155,7 @@ class alignas(64) ScanCounts {  // one per thread: no shared cache line
   /// pointers and neighbour links survive the table growing.
   std::vector<std::unique_ptr<CountBlock>> blocks_;
   std::vector<CellIndex> used_;
+  std::atomic<int64_t>* left_ = nullptr;
 };
 
 /// The ray walker of the free-space pass (see walkRay): adds `weight` to every cell visited.

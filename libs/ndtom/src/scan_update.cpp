@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -9,6 +10,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "ndtom/input_file.h"
 #include "ndtom/ray_dda.h"
 #include "parallel.h"
 #include "radix_sort.h"
@@ -70,18 +72,47 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
     throw std::invalid_argument("insertScan: more than 2^32 points in one scan; split it");
   if (s_.counts.empty()) s_.counts.resize(1);  // counts[0] is the union even without tracing
   s_.counts_used = 1;
+  checkBudgetForPoints(points.size());
 
   // Nothing below touches the map until applyToMap(), which cannot fail half-way.
   try {
     classifyPoints(points);
     groupEndsByCell();
+    checkBudgetForEnds();
     if (map_.options().occupancy.enabled) traceFreeRays();
     applyToMap();
+  } catch (const MemoryBudgetError&) {
+    for (ScanCounts& c : s_.counts) c.releaseMemory();  // may hold the budget's worth
+    throw;
   } catch (...) {
     for (ScanCounts& c : s_.counts) c.clear();  // the next scan starts from zero counters
     throw;
   }
   return report_;
+}
+
+void ScanUpdater::checkBudgetForPoints(size_t points) {
+  budget_used_ = map_.memoryBytes() + points * kBytesPerPoint;
+  if (budget_used_ > options_.memory_budget)
+    throw MemoryBudgetError("insertScan: a scan of " + std::to_string(points) +
+                                " points (the map takes " + megabytes(map_.memoryBytes()) + ")",
+                            budget_used_, options_.memory_budget);
+}
+
+void ScanUpdater::checkBudgetForEnds() {
+  // The hit cells' blocks and statistics, counted by groupEndsByCell: no pass over the groups.
+  end_blocks_ = s_.hit_blocks.size();
+  budget_used_ += report_.cells_hit * sizeof(CellStats) + end_blocks_ * kBytesPerNewBlock;
+  const uint64_t budget = options_.memory_budget;
+  if (budget_used_ > budget) {
+    char resolution[32];
+    std::snprintf(resolution, sizeof(resolution), "%g", map_.options().resolution);
+    throw MemoryBudgetError("insertScan: a scan whose hits lie in " + std::to_string(end_blocks_) +
+                                " blocks of 8^3 cells (resolution " + resolution + " m)",
+                            budget_used_, budget);
+  }
+  blocks_left_.store(int64_t((budget - budget_used_) / kBytesPerNewBlock),
+                     std::memory_order_relaxed);
 }
 
 // Step 1: drop bad points (counted), truncate far ones at max_range.
@@ -336,6 +367,7 @@ CellStats ScanUpdater::groupStats(const EndGroup& g) const {
     yy += d.y() * d.y(), yz += d.y() * d.z(), zz += d.z() * d.z();
   }
   stats.scatter << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  stats.clampMean(map_.halfCell());
   return stats;
 }
 
@@ -347,6 +379,14 @@ void ScanUpdater::traceFreeRays() {
   const size_t threads = threadsFor(rays, kMinRaysPerThread);
   if (s_.counts.size() < threads) s_.counts.resize(threads);
   s_.counts_used = threads;
+  // The memory budget: the tables may add the blocks checkBudgetForEnds() left, together.
+  for (size_t t = 0; t < threads; ++t) s_.counts[t].setBlockLimit(&blocks_left_);
+  struct Unlimit {  // allocateForApply adds blocks already paid for
+    ScanScratch& s;
+    ~Unlimit() {
+      for (ScanCounts& c : s.counts) c.setBlockLimit(nullptr);
+    }
+  } unlimit{s_};
 
   const GridGeometry& geometry = map_.geometry();
   std::vector<size_t> visits(threads, 0);
@@ -389,7 +429,7 @@ void ScanUpdater::traceFreeRays() {
   std::vector<Cursor> cursors(threads);
   for (size_t t = 0; t < threads; ++t) cursors[t].next.store(bounds[t], std::memory_order_relaxed);
   constexpr size_t kRaysPerTake = 256;
-  s_.pool.run(threads, [&](size_t t) {
+  auto walk = [&](size_t t) {
     CountingWalker count(s_.counts[t]);
     for (size_t k = 0; k < threads; ++k) {  // its own range first, then the others'
       const size_t range = (t + k) % threads, range_end = bounds[range + 1];
@@ -415,7 +455,19 @@ void ScanUpdater::traceFreeRays() {
       }
     }
     visits[t] = count.visits();
-  });
+  };
+  try {
+    s_.pool.run(threads, walk);
+  } catch (const BlockLimitReached&) {
+    char resolution[32];
+    std::snprintf(resolution, sizeof(resolution), "%g", map_.options().resolution);
+    size_t blocks = end_blocks_;
+    for (size_t t = 0; t < threads; ++t) blocks += s_.counts[t].numBlocks();
+    throw MemoryBudgetError(
+        "insertScan: a scan whose rays cross more than " + std::to_string(blocks) +
+            " blocks of 8^3 cells (resolution " + resolution + " m)",
+        budget_used_ + (blocks - end_blocks_ + 1) * kBytesPerNewBlock, options_.memory_budget);
+  }
   report_.rays_cast = rays;
   for (size_t n : visits) report_.voxel_visits += n;
 }
@@ -485,12 +537,12 @@ void ScanUpdater::allocateForApply() {
     s_.hit_part_starts.resize(hit_threads_ + 1);
     for (size_t t = 0; t <= hit_threads_; ++t) {
       const size_t start = partRange(s_.sorted_ends.size(), hit_threads_, t).first;
-      s_.hit_part_starts[t] = size_t(
-          std::lower_bound(s_.hit_blocks.begin(), s_.hit_blocks.end(), start,
-                           [&](const ScanScratch::HitBlock& h, size_t end) {
-                             return s_.groups[h.first_group].begin < end;
-                           }) -
-          s_.hit_blocks.begin());
+      s_.hit_part_starts[t] =
+          size_t(std::lower_bound(s_.hit_blocks.begin(), s_.hit_blocks.end(), start,
+                                  [&](const ScanScratch::HitBlock& h, size_t end) {
+                                    return s_.groups[h.first_group].begin < end;
+                                  }) -
+                 s_.hit_blocks.begin());
     }
     apply_threads_ = threadsFor(blocks, kMinBlocksPerThread);
     const size_t parts = std::max(apply_threads_, hit_threads_);
@@ -527,7 +579,9 @@ void ScanUpdater::applyToMap() {
       report_.gaussians_gained += part.gaussians_gained;
       report_.gaussians_lost += part.gaussians_lost;
       map_.num_cells_ += part.created;
+      map_.stats_bytes_ += part.stats_bytes;
       part.touched = part.created = part.gaussians_gained = part.gaussians_lost = 0;
+      part.stats_bytes = 0;
     }
   };
   // Blocks differ in work, and each block's update stands alone: threads take small runs of
@@ -669,11 +723,13 @@ void ScanUpdater::applyHits(ScanScratch::HitBlock& hb, ScanScratch::ApplyPart& p
     CellStats& stats = block.stats[src++];
     const bool had_gaussian = stats.hasGaussian();
     stats.merge(groupStats(g));
+    stats.clampMean(map_.halfCell());
     part.gaussians_gained += !had_gaussian && stats.hasGaussian();
     if (grown) grown->push_back(std::move(stats));
   }
   if (!grown) return;
   passTo(kBlockCells);
+  part.stats_bytes += NdtMap::statsBytes(*grown) - NdtMap::statsBytes(block.stats);
   block.stats.swap(*grown);
   std::vector<CellStats>().swap(*grown);  // frees the old array
 }

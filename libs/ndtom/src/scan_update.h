@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <atomic>
 #include <utility>
 #include <vector>
 
@@ -49,6 +50,7 @@ struct ScanScratch {
   /// What one thread of the map update did; a cache line each, as threads count per cell.
   struct alignas(64) ApplyPart {
     size_t touched = 0, created = 0, gaussians_gained = 0, gaussians_lost = 0;
+    size_t stats_bytes = 0;  ///< change of the map's statistics bytes (modulo 2^64)
   };
   std::vector<ApplyPart> apply_parts;
   /// A map block with hits in this scan: the unit of the hit update, owned by one thread.
@@ -67,6 +69,14 @@ struct ScanScratch {
 
 class ScanUpdater {
  public:
+  /// What the memory budget counts per point of a scan (classification, sorting and grouping
+  /// buffers) and per block a scan adds (its counters, and the map's new block).
+  static constexpr uint64_t kBytesPerPoint = sizeof(PointKind) + 2 * sizeof(Eigen::Vector3d) +
+                                             sizeof(CellIndex) + 2 * sizeof(uint64_t) +
+                                             sizeof(EndGroup);
+  static constexpr uint64_t kBytesPerNewBlock =
+      ScanCounts::kBytesPerBlock + BlockGrid<NdtMap::Block>::kBytesPerBlock;
+
   ScanUpdater(NdtMap& map, const InsertOptions& options, ScanScratch& scratch)
       : map_(map), options_(options), s_(scratch) {}
 
@@ -79,6 +89,11 @@ class ScanUpdater {
   static constexpr size_t kRayPieces = 256;
   static_assert(kRayPieces >= size_t(InsertOptions::kMaxThreads), "a piece per thread");
 
+  /// Memory budget, before classification: the map and the scan's per-point buffers.
+  void checkBudgetForPoints(size_t points);
+  /// Before tracing: the blocks of the hits (a lower bound of the blocks the scan adds) and
+  /// their statistics; then limits the tracing tables to the blocks the budget leaves.
+  void checkBudgetForEnds();
   void classifyPoints(const std::vector<Eigen::Vector3d>& points);
   std::pair<size_t, size_t> classifyChunk(size_t t) const;
   void groupEndsByCell();
@@ -113,6 +128,9 @@ class ScanUpdater {
   size_t classify_threads_ = 1, apply_threads_ = 1, hit_threads_ = 1;
   /// Per piece of the points, their rays' summed L1 lengths (what a walk costs).
   std::array<double, kRayPieces> piece_lengths_{};
+  uint64_t budget_used_ = 0;             ///< map + this scan's buffers, as estimated so far (bytes)
+  std::atomic<int64_t> blocks_left_{0};  ///< new blocks tracing may add (memory budget)
+  size_t end_blocks_ = 0;                ///< distinct blocks of the ray ends
 };
 
 }  // namespace ndtom

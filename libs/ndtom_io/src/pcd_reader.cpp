@@ -1,27 +1,34 @@
 #include "ndtom_io/pcd_reader.h"
 
+#include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 
 #include "lzf.h"
 #include "ndtom/atomic_file.h"
+#include "ndtom/checked_size.h"
+#include "ndtom/input_file.h"
 
 namespace ndtom::io {
 namespace {
 
+// What a header may claim. PCL's widest fields are histograms of a few hundred elements.
+constexpr uint64_t kMaxFields = 1024;
+constexpr uint64_t kMaxFieldCount = uint64_t(1) << 20;  // elements of one field
+constexpr uint64_t kMaxPointBytes = uint64_t(1) << 24;
+constexpr uint64_t kMaxPcdFileBytes = uint64_t(1) << 30;
+
 struct Field {
   std::string name;
-  int size = 4;       // bytes per element
+  int size = 4;       // bytes per element: 1, 2, 4 or 8
   char type = 'F';    // F (float), I (signed), U (unsigned)
-  int count = 1;      // elements
+  int count = 1;      // elements, at most kMaxFieldCount
   size_t offset = 0;  // bytes from the start of a point (binary layout)
 };
 
 struct Header {
   std::vector<Field> fields;
-  size_t width = 0, height = 1, points = 0;
+  uint64_t width = 0, height = 1, points = 0;
   bool points_given = false;
   std::string data;
   Eigen::Isometry3d viewpoint = Eigen::Isometry3d::Identity();
@@ -32,21 +39,20 @@ struct Header {
   throw PcdError("PCD " + name + ": " + why);
 }
 
-size_t parseCount(const std::string& token, const std::string& name, const char* what) {
-  try {
-    size_t used = 0;
-    const long long v = std::stoll(token, &used);
-    if (used != token.size() || v < 0) throw std::invalid_argument(token);
-    return size_t(v);
-  } catch (const std::exception&) {
-    fail(name, std::string("bad ") + what + " '" + token + "'");
-  }
+uint64_t parseNumber(const std::string& token, uint64_t max, const std::string& name,
+                     const char* what) {
+  const auto v = parseCount(token, max);
+  if (!v && max != UINT64_MAX)
+    fail(name,
+         std::string("bad ") + what + " '" + token + "' (at most " + std::to_string(max) + ")");
+  if (!v) fail(name, std::string("bad ") + what + " '" + token + "'");
+  return *v;
 }
 
-Header parseHeader(std::istream& in, const std::string& name) {
+Header parseHeader(std::istream& in, const std::string& name, uint64_t max_points) {
   Header h;
   std::vector<std::string> names, types;
-  std::vector<size_t> sizes, counts;
+  std::vector<uint64_t> sizes, counts;
   std::string line;
   while (std::getline(in, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -60,26 +66,25 @@ Header parseHeader(std::istream& in, const std::string& name) {
     } else if (key == "FIELDS") {
       names = values;
     } else if (key == "SIZE") {
-      for (const auto& v : values) sizes.push_back(parseCount(v, name, "SIZE"));
+      for (const auto& v : values) sizes.push_back(parseNumber(v, 8, name, "SIZE"));
     } else if (key == "TYPE") {
       types = values;
     } else if (key == "COUNT") {
-      for (const auto& v : values) counts.push_back(parseCount(v, name, "COUNT"));
+      for (const auto& v : values) counts.push_back(parseNumber(v, kMaxFieldCount, name, "COUNT"));
     } else if (key == "WIDTH" && values.size() == 1) {
-      h.width = parseCount(values[0], name, "WIDTH");
+      h.width = parseNumber(values[0], UINT64_MAX, name, "WIDTH");
     } else if (key == "HEIGHT" && values.size() == 1) {
-      h.height = parseCount(values[0], name, "HEIGHT");
+      h.height = parseNumber(values[0], UINT64_MAX, name, "HEIGHT");
     } else if (key == "POINTS" && values.size() == 1) {
-      h.points = parseCount(values[0], name, "POINTS");
+      h.points = parseNumber(values[0], UINT64_MAX, name, "POINTS");
       h.points_given = true;
     } else if (key == "VIEWPOINT" && values.size() == 7) {
       double v[7];
       for (int i = 0; i < 7; ++i) {
-        try {
-          v[i] = std::stod(values[i]);
-        } catch (const std::exception&) {
-          fail(name, "bad VIEWPOINT");
-        }
+        char* end = nullptr;
+        v[i] = std::strtod(values[i].c_str(), &end);
+        if (end == values[i].c_str() || *end != '\0' || !std::isfinite(v[i]))
+          fail(name, "bad VIEWPOINT '" + values[i] + "'");
       }
       h.viewpoint.setIdentity();
       h.viewpoint.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
@@ -95,25 +100,36 @@ Header parseHeader(std::istream& in, const std::string& name) {
   }
   if (h.data.empty()) fail(name, "no DATA line: not a PCD file or truncated header");
   if (names.empty()) fail(name, "no FIELDS");
+  if (names.size() > kMaxFields)
+    fail(name, std::to_string(names.size()) + " FIELDS, more than " + std::to_string(kMaxFields));
   if (sizes.size() != names.size() || types.size() != names.size())
     fail(name, "FIELDS, SIZE and TYPE have different lengths");
   if (counts.empty()) counts.assign(names.size(), 1);
   if (counts.size() != names.size()) fail(name, "COUNT and FIELDS have different lengths");
-  if (!h.points_given) h.points = h.width * h.height;
-  if (h.width * h.height != h.points) fail(name, "WIDTH x HEIGHT differs from POINTS");
-  size_t offset = 0;
+  const auto width_x_height = checkedMul(h.width, h.height);
+  if (!h.points_given && width_x_height) h.points = *width_x_height;
+  if (!width_x_height || *width_x_height != h.points)
+    fail(name, "WIDTH x HEIGHT differs from POINTS");
+  if (h.points > max_points)
+    fail(name, std::to_string(h.points) + " points, more than the " + std::to_string(max_points) +
+                   " a scan may have here");
+  uint64_t offset = 0;
   for (size_t i = 0; i < names.size(); ++i) {
-    Field f{names[i], int(sizes[i]), types[i].empty() ? '?' : types[i][0], int(counts[i]), offset};
+    // sizes[i] <= 8 and counts[i] <= kMaxFieldCount: both fit an int.
+    Field f{names[i], int(sizes[i]), types[i].empty() ? '?' : types[i][0], int(counts[i]),
+            size_t(offset)};
     const bool ok =
         types[i].size() == 1 && ((f.type == 'F' && (f.size == 4 || f.size == 8)) ||
                                  ((f.type == 'I' || f.type == 'U') &&
                                   (f.size == 1 || f.size == 2 || f.size == 4 || f.size == 8)));
     if (!ok) fail(name, "unsupported type " + types[i] + " of size " + std::to_string(f.size));
-    if (f.count < 1 || f.count > 1 << 20) fail(name, "bad COUNT of field " + f.name);
-    offset += size_t(f.size) * size_t(f.count);
+    if (f.count < 1) fail(name, "bad COUNT of field " + f.name);
+    offset += uint64_t(f.size) * uint64_t(f.count);  // at most 1024 * 8 * 2^20: no overflow
+    if (offset > kMaxPointBytes)
+      fail(name, "a point of more than " + std::to_string(kMaxPointBytes) + " bytes");
     h.fields.push_back(f);
   }
-  h.point_bytes = offset;
+  h.point_bytes = size_t(offset);
   return h;
 }
 
@@ -151,9 +167,9 @@ const Field& requireField(const Header& h, const char* wanted, const std::string
 
 }  // namespace
 
-PointCloud parsePcd(const std::string& bytes, const std::string& name) {
+PointCloud parsePcd(const std::string& bytes, const std::string& name, uint64_t max_points) {
   std::istringstream in(bytes);
-  const Header h = parseHeader(in, name);
+  const Header h = parseHeader(in, name, max_points);
   const Field* xyz[3] = {&requireField(h, "x", name), &requireField(h, "y", name),
                          &requireField(h, "z", name)};
   PointCloud cloud;
@@ -201,7 +217,7 @@ PointCloud parsePcd(const std::string& bytes, const std::string& name) {
       fail(name, "truncated: " + std::to_string(cloud.points.size()) + " of " +
                      std::to_string(h.points) + " points");
   } else if (h.data == "binary") {
-    if (h.point_bytes != 0 && available / h.point_bytes < h.points)
+    if (!fitsIn(h.points, h.point_bytes, available))
       fail(name, "truncated: data holds " + std::to_string(available / h.point_bytes) + " of " +
                      std::to_string(h.points) + " points");
     cloud.points.resize(h.points);
@@ -219,7 +235,8 @@ PointCloud parsePcd(const std::string& bytes, const std::string& name) {
     // A back-reference of 3 bytes expands to at most 264: bound the allocation by that.
     if (uint64_t(uncompressed) > uint64_t(compressed) * 88 + 64)
       fail(name, "implausible uncompressed size");
-    if (uint64_t(uncompressed) != uint64_t(h.point_bytes) * h.points)
+    const auto expected = checkedMul(h.point_bytes, h.points);
+    if (!expected || *expected != uint64_t(uncompressed))
       fail(name, "compressed data size does not match the fields and POINTS");
     std::string raw(uncompressed, '\0');
     if (!lzfDecompress(data + 8, compressed, raw.data(), raw.size()))
@@ -238,12 +255,14 @@ PointCloud parsePcd(const std::string& bytes, const std::string& name) {
   return cloud;
 }
 
-PointCloud readPcd(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) fail(path, "cannot open the file");
-  std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  if (file.bad()) fail(path, "cannot read the file");
-  return parsePcd(bytes, path);
+PointCloud readPcd(const std::string& path, uint64_t max_points) {
+  std::string bytes;
+  try {
+    bytes = readInputFile(path, kMaxPcdFileBytes, "PCD");
+  } catch (const InputFileError& e) {
+    throw PcdError(e.what());
+  }
+  return parsePcd(bytes, path, max_points);
 }
 
 void writePcdBinary(const std::string& path, const std::vector<Eigen::Vector3d>& points) {

@@ -1,11 +1,22 @@
 #include "ndtom_io/pose_file.h"
 
+#include <Eigen/LU>
 #include <Eigen/SVD>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
+#include "ndtom/input_file.h"
+
 namespace ndtom::io {
+namespace {
+
+constexpr uint64_t kMaxPoseFileBytes = uint64_t(1) << 28;
+
+const char* formatName(PoseFormat format) {
+  return format == PoseFormat::Kitti ? "KITTI (12 numbers)" : "TUM (8 numbers)";
+}
+
+}  // namespace
 
 Eigen::Isometry3d poseFromTranslationQuaternion(const double t[3], double qx, double qy, double qz,
                                                 double qw) {
@@ -20,9 +31,15 @@ Eigen::Isometry3d poseFromTranslationQuaternion(const double t[3], double qx, do
   return pose;
 }
 
-std::vector<StampedPose> readPoseFile(const std::string& path, PoseFormat format) {
-  std::ifstream in(path);
-  if (!in) throw PoseFileError("pose file " + path + ": cannot open the file");
+std::vector<StampedPose> readPoseFile(const std::string& path, PoseFormat format,
+                                      PoseFormat* used) {
+  std::istringstream in;
+  try {
+    in.str(readInputFile(path, kMaxPoseFileBytes, "pose file"));
+  } catch (const InputFileError& e) {
+    throw PoseFileError(e.what());
+  }
+  const bool guessed = format == PoseFormat::Auto;
   std::vector<StampedPose> poses;
   std::string line;
   for (int line_no = 1; std::getline(in, line); ++line_no) {
@@ -39,38 +56,46 @@ std::vector<StampedPose> readPoseFile(const std::string& path, PoseFormat format
         throw PoseFileError(where() + ": bad number '" + token + "'");
       v.push_back(x);
     }
-    PoseFormat line_format = format;
+    // The first data line decides the format of the whole file: a file mixing the two would
+    // otherwise give KITTI lines (numbered) and TUM lines (timed) one sequence.
     if (format == PoseFormat::Auto) {
       if (v.size() == 12)
-        line_format = PoseFormat::Kitti;
+        format = PoseFormat::Kitti;
       else if (v.size() == 8)
-        line_format = PoseFormat::Tum;
+        format = PoseFormat::Tum;
     }
     StampedPose p;
-    if (line_format == PoseFormat::Kitti && v.size() == 12) {
+    if (format == PoseFormat::Kitti && v.size() == 12) {
       Eigen::Matrix3d r;
       r << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
-      // Tolerate the rounding of printed matrices, not a wrong layout.
-      if (!(r * r.transpose()).isApprox(Eigen::Matrix3d::Identity(), 1e-3))
+      // Tolerate the rounding of printed matrices, not a wrong layout or a mirror (det -1,
+      // which would turn every scan inside out).
+      if (!(r * r.transpose()).isApprox(Eigen::Matrix3d::Identity(), 1e-3) ||
+          !(r.determinant() > 0))
         throw PoseFileError(where() + ": the 3x3 block is not a rotation");
       const Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
       p.pose.linear() = svd.matrixU() * svd.matrixV().transpose();  // re-orthonormalised
       p.pose.translation() = Eigen::Vector3d(v[3], v[7], v[11]);
       p.time = double(poses.size());
-    } else if (line_format == PoseFormat::Tum && v.size() == 8) {
+    } else if (format == PoseFormat::Tum && v.size() == 8) {
       try {
         p.pose = poseFromTranslationQuaternion(&v[1], v[4], v[5], v[6], v[7]);
       } catch (const std::invalid_argument& e) {
         throw PoseFileError(where() + ": " + e.what());
       }
       p.time = v[0];
-    } else {
+    } else if (format == PoseFormat::Auto) {
       throw PoseFileError(where() + ": expected 12 numbers (KITTI) or 8 (TUM), found " +
                           std::to_string(v.size()));
+    } else {
+      throw PoseFileError(where() + ": expected " + formatName(format) +
+                          (guessed ? " as the first line, found " : ", found ") +
+                          std::to_string(v.size()) + " numbers");
     }
     poses.push_back(p);
   }
   if (poses.empty()) throw PoseFileError("pose file " + path + ": no poses");
+  if (used) *used = format;
   return poses;
 }
 

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <sstream>
 
+#include "ndtom/checked_size.h"
+#include "ndtom/input_file.h"
 #include "ndtom_io/pose_file.h"
 
 namespace ndtom::io {
@@ -15,10 +17,16 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kMaxTimeDifference = 0.02;  // s, as TUM's associate.py
+constexpr uint64_t kMaxTableBytes = uint64_t(1) << 28;
+constexpr uint64_t kMaxDepthImageBytes = uint64_t(1) << 28;
 
 std::vector<std::vector<std::string>> readTable(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw TumError("TUM sequence: cannot open " + path.string());
+  std::istringstream in;
+  try {
+    in.str(readInputFile(path.string(), kMaxTableBytes, "TUM sequence:"));
+  } catch (const InputFileError& e) {
+    throw TumError(e.what());
+  }
   std::vector<std::vector<std::string>> rows;
   std::string line;
   while (std::getline(in, line)) {
@@ -61,6 +69,26 @@ TumSequence matchGroundTruth(const fs::path& folder,
     seq.frames.push_back({time, (folder / file).string(), best->second});
   }
   return seq;
+}
+
+// A PNG's size from its IHDR chunk (the first one, right after the signature), so that a
+// header claiming 100000 x 100000 pixels is refused before OpenCV allocates them.
+struct PngHeader {
+  uint64_t width = 0, height = 0;
+  int bit_depth = 0, color_type = 0;
+};
+
+std::optional<PngHeader> pngHeader(const std::string& bytes) {
+  static const char kSignature[] = "\x89PNG\r\n\x1a\n";
+  if (bytes.size() < 29 || bytes.compare(0, 8, kSignature, 8) != 0 ||
+      bytes.compare(12, 4, "IHDR") != 0)
+    return std::nullopt;
+  auto u32 = [&](size_t at) {
+    uint64_t v = 0;
+    for (size_t i = 0; i < 4; ++i) v = v << 8 | uint8_t(bytes[at + i]);
+    return v;
+  };
+  return PngHeader{u32(16), u32(20), uint8_t(bytes[24]), uint8_t(bytes[25])};
 }
 
 }  // namespace
@@ -131,15 +159,45 @@ TumSequence readTumSequence(const std::string& folder_name) {
 }
 
 std::vector<Eigen::Vector3d> readDepthImagePoints(const std::string& png_path,
-                                                  const DepthCamera& camera, int decimation) {
+                                                  const DepthCamera& camera, int decimation,
+                                                  uint64_t max_points) {
   camera.validate();
   if (decimation < 1) throw std::invalid_argument("decimation must be >= 1");
-  const cv::Mat depth = cv::imread(png_path, cv::IMREAD_UNCHANGED);
-  if (depth.empty()) throw TumError("depth image " + png_path + ": cannot read it");
-  if (depth.type() != CV_16UC1)
+  std::string bytes;
+  try {
+    bytes = readInputFile(png_path, kMaxDepthImageBytes, "depth image");
+  } catch (const InputFileError& e) {
+    throw TumError(e.what());
+  }
+  const auto header = pngHeader(bytes);
+  if (!header) throw TumError("depth image " + png_path + ": not a PNG file");
+  if (header->bit_depth != 16 || header->color_type != 0)
+    throw TumError("depth image " + png_path + ": not 16-bit single channel");
+  const auto pixels = checkedMul(header->width, header->height);
+  if (!pixels || *pixels > kMaxDepthImagePixels || header->width == 0 || header->height == 0)
+    throw TumError("depth image " + png_path + ": " + std::to_string(header->width) + " x " +
+                   std::to_string(header->height) + " pixels (at most " +
+                   std::to_string(kMaxDepthImagePixels) + " are read)");
+  const uint64_t step = uint64_t(decimation);
+  const uint64_t most_points =
+      ((header->width + step - 1) / step) * ((header->height + step - 1) / step);
+  if (most_points > max_points)
+    throw TumError("depth image " + png_path + ": up to " + std::to_string(most_points) +
+                   " points at decimation " + std::to_string(decimation) + ", more than the " +
+                   std::to_string(max_points) + " a scan may have here");
+  const cv::Mat depth =
+      cv::imdecode(cv::Mat(1, int(bytes.size()), CV_8UC1, bytes.data()), cv::IMREAD_UNCHANGED);
+  if (depth.empty()) throw TumError("depth image " + png_path + ": cannot decode it");
+  if (depth.type() != CV_16UC1 || uint64_t(depth.cols) != header->width ||
+      uint64_t(depth.rows) != header->height)
     throw TumError("depth image " + png_path + ": not 16-bit single channel");
   std::vector<Eigen::Vector3d> points;
-  points.reserve(size_t(depth.rows / decimation + 1) * size_t(depth.cols / decimation + 1));
+  size_t readings = 0;  // reserve exactly: most pixels of a depth image may be empty
+  for (int v = 0; v < depth.rows; v += decimation) {
+    const auto* row = depth.ptr<uint16_t>(v);
+    for (int u = 0; u < depth.cols; u += decimation) readings += row[u] != 0;
+  }
+  points.reserve(readings);
   for (int v = 0; v < depth.rows; v += decimation) {
     const auto* row = depth.ptr<uint16_t>(v);
     for (int u = 0; u < depth.cols; u += decimation) {

@@ -67,8 +67,9 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
     double logodds_min{-2.0};      ///< Lower log-odds clamp, < 0 (Default: -2)
     double logodds_max{3.5};       ///< Upper log-odds clamp, > 0 (Default: 3.5)
     double min_range{0.0};         ///< Closer points are dropped (Default: 0 m)
-    /// Farther points give a free ray truncated here and no hit (Default: inf, no limit)
-    double max_range{std::numeric_limits<double>::infinity()};
+    /// Farther points give a free ray truncated here and no hit; inf for no limit
+    /// (Default: 100 m, see ndtom::kDefaultMaxRange)
+    double max_range{ndtom::kDefaultMaxRange};
     ndtom::RayMode ray_mode{ndtom::RayMode::PerPoint};  ///< PerPoint|PerHitCell (Default: PerPoint)
     uint32_t decimation{1};           ///< Keep 1 point in N of scans and clouds (Default: 1)
     uint32_t decimation_3d_range{1};  ///< Depth images: every N-th row and column (Default: 1)
@@ -76,6 +77,11 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
     double min_eigen_abs{1e-6};       ///< Covariance eigenvalue floor (Default: 1e-6 m²)
     /// Threads inserting a scan, in [1, 256]; the map is the same for any count (Default: 1)
     int32_t threads{1};
+    /// Megabytes (10^6 bytes) the map and one scan's working memory may take: a scan that
+    /// would need more is refused and the map left as it was (Default: a quarter of the
+    /// physical memory, at most 512 MB). A setting of the machine, not of the map: not
+    /// serialized (a map read from an archive keeps the reader's).
+    double memory_budget{double(ndtom::defaultMemoryBudget()) / 1e6};
 
     /// The core's options; throws std::invalid_argument naming a bad value.
     ndtom::MapOptions toMapOptions() const;

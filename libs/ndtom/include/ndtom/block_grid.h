@@ -87,6 +87,10 @@ class BlockGrid {
   const Map& blocks() const { return blocks_; }
   Map& blocks() { return blocks_; }
 
+  /// What one more block adds to memoryBytes(): the block, its node and a bucket.
+  static constexpr size_t kBytesPerBlock = sizeof(Block) + sizeof(typename Map::value_type) +
+                                           sizeof(void*) + sizeof(size_t) + sizeof(void*);
+
   /// Approximate heap bytes: blocks, their owning pointers and the hash table's nodes/buckets.
   size_t memoryBytes() const {
     constexpr size_t kNodeOverhead = sizeof(void*) + sizeof(size_t);  // next pointer + cached hash

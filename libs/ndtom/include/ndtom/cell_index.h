@@ -43,6 +43,15 @@ struct CellIndexHash {
 /// rejected, never wrapped. At 0.1 m this is ±107,374 km, so UTM coordinates fit.
 inline constexpr int32_t kMaxCellIndex = int32_t(1) << 30;
 
+/// The one range rule for insertion, setCell(), saving and loading: |i| < kMaxCellIndex on
+/// every axis. (Insertion accepted -(2^30 - 1) while setCell and the loader refused it, so a
+/// map could be written that could not be read.)
+inline bool isSupportedCell(const CellIndex& c) {
+  for (int a = 0; a < 3; ++a)
+    if (!(c[a] > -kMaxCellIndex && c[a] < kMaxCellIndex)) return false;
+  return true;
+}
+
 /// Maps metric coordinates to cells for one resolution.
 class GridGeometry {
  public:
@@ -52,11 +61,12 @@ class GridGeometry {
   double resolution() const { return resolution_; }
   double invResolution() const { return inv_resolution_; }
 
-  /// False for non-finite points and points whose cell is outside the supported range.
+  /// False for non-finite points and points whose cell is not isSupportedCell().
   bool inRange(const Eigen::Vector3d& p) const {
     for (int a = 0; a < 3; ++a) {
+      // floor(s) > -kMaxCellIndex and floor(s) < kMaxCellIndex; false for NaN too.
       const double s = p[a] * inv_resolution_;
-      if (!(std::abs(s) < double(kMaxCellIndex - 1))) return false;  // also catches NaN
+      if (!(s >= -double(kMaxCellIndex - 1) && s < double(kMaxCellIndex))) return false;
     }
     return true;
   }

@@ -15,6 +15,9 @@ namespace ndtom {
 
 /// The paper computes a Gaussian only from 3 points on (Sec. IV-A-1).
 inline constexpr uint32_t kMinPointsForGaussian = 3;
+/// The point count saturates here (merges past 4.29e9 points keep their exact weights in μ
+/// and S, but N stays), rather than wrapping to a small number.
+inline constexpr uint32_t kMaxCellPoints = UINT32_MAX;
 
 struct CellStats {
   uint32_t n = 0;
@@ -28,7 +31,13 @@ struct CellStats {
   Eigen::Matrix3d covariance() const { return scatter / double(n - 1); }
 
   /// RCU (Eq. 2, 11): this ← this ⊕ other. Both must share the same reference point.
+  /// N saturates at kMaxCellPoints.
   void merge(const CellStats& other);
+
+  /// Moves the mean into the box [-half, half]³ around the reference point. The mean of points
+  /// in a cell lies in its closed box; rounding (of the point's cell far from the origin, of
+  /// the sums) can leave it a few ulps outside, and the map keeps it inside.
+  void clampMean(double half) { mean = mean.cwiseMax(-half).cwiseMin(half); }
 
   /// Two-pass batch statistics (Eq. 1) of points already expressed relative to the reference.
   static CellStats fromPoints(const std::vector<Eigen::Vector3d>& relative_points);

@@ -36,6 +36,10 @@ class NdtMap {
  public:
   /// Throws std::invalid_argument if the options are invalid.
   explicit NdtMap(const MapOptions& options = {});
+  NdtMap(const NdtMap& other);
+  NdtMap& operator=(const NdtMap& other);
+  NdtMap(NdtMap&&) noexcept = default;
+  NdtMap& operator=(NdtMap&&) noexcept = default;
 
   const MapOptions& options() const { return options_; }
   const GridGeometry& geometry() const { return geometry_; }
@@ -76,8 +80,16 @@ class NdtMap {
   template <class F>
   void forEachGaussian(F&& f, bool regularized = true) const;
 
-  /// Heap bytes used by cells, blocks, index and statistics.
+  /// Most points a scan can have under a memory budget of `budget` bytes: each takes ~160
+  /// bytes of buffers while it is inserted. For readers, to refuse larger scans before
+  /// allocating them.
+  static uint64_t maxScanPoints(uint64_t budget);
+
+  /// Heap bytes used by cells, blocks, index and statistics. O(1): the statistics' share is
+  /// kept up to date as they change (the memory budget reads it before every scan).
   size_t memoryBytes() const;
+  /// The same, counted block by block: for tests of the bookkeeping.
+  size_t memoryBytesCounted() const;
 
   /// Changes with every call that may change the cells (insertion, setCell, merge, clear);
   /// unique across maps, and shared by copies. Caches derived from a map (the registration
@@ -87,7 +99,8 @@ class NdtMap {
   // --- Map algebra ------------------------------------------------------------------------
 
   /// Adds a map built from other data (same resolution, else std::invalid_argument):
-  /// Gaussians by RCU, log-odds summed and clamped to this map's bounds.
+  /// Gaussians by RCU, log-odds summed and clamped to this map's bounds. Throws
+  /// MemoryBudgetError, the map unchanged, if the blocks it adds do not fit the budget.
   void merge(const NdtMap& other);
 
   /// A map `factor` times coarser (Sec. III-B): each coarse cell is the RCU merge of the fine
@@ -98,9 +111,12 @@ class NdtMap {
 
   // --- Low level: restoring a map from storage ------------------------------------------
 
-  /// Sets one cell as given (used by loaders). The statistics' mean is cell-centred. Throws
-  /// std::invalid_argument for an index outside the supported range.
-  void setCell(const CellIndex& index, float logodds, const CellStats& stats);
+  /// Sets one cell as given (used by loaders); the log-odds is clamped to the bounds, the
+  /// statistics' mean is cell-centred. Returns whether the cell was unknown before. Throws,
+  /// leaving the map unchanged, std::invalid_argument naming the problem if the cell breaks
+  /// the rule of cell_rules.h (what saving writes and loading accepts), or MemoryBudgetError
+  /// if a new block would take the map over insertion.memory_budget.
+  bool setCell(const CellIndex& index, float logodds, const CellStats& stats);
   /// Frees the spare room setCell() leaves in the blocks' statistics arrays (they grow one
   /// cell at a time); loaders and the map algebra call it when done.
   void shrinkToFit();
@@ -154,12 +170,19 @@ class NdtMap {
   void forEachCellOfBlock(const CellIndex& block_index, const Block& block, F& f) const;
 
   float clampLogOdds(double l) const;
+  /// Heap bytes of one block's statistics array (memoryBytes() counts them).
+  static size_t statsBytes(const std::vector<CellStats>& stats);
+  /// Half the cell edge: the box the cell-centred means stay in (CellStats::clampMean).
+  double halfCell() const { return 0.5 * options_.resolution; }
+  /// Throws MemoryBudgetError unless `new_blocks` more blocks fit the memory budget.
+  void checkRoomForBlocks(size_t new_blocks, const char* what) const;
   void touch();  ///< a new revision()
 
   MapOptions options_;
   GridGeometry geometry_;
   BlockGrid<Block> grid_;
   size_t num_cells_ = 0;
+  size_t stats_bytes_ = 0;  ///< statsBytes() summed over the blocks
   uint64_t revision_ = 0;
   Scratch scratch_;
 };

@@ -1,10 +1,12 @@
 // Options of an NDT-OM map. validate() rejects bad values with a message naming the option.
 #pragma once
 
+#include <cstdint>
 #include <limits>
 #include <string>
 
 #include "ndtom/gaussian.h"
+#include "ndtom/memory_budget.h"
 
 namespace ndtom {
 
@@ -32,17 +34,28 @@ struct OccupancyOptions {
   double missLogOdds() const;  ///< log(p_e / (1 − p_e))
 };
 
+/// Default max_range (m). Finite, as MRPT's own grids (15 m) and unlike OctoMap (no limit):
+/// a ray costs its length in cells, so a few points at kilometres (glitches, or a hostile
+/// file) would take minutes and gigabytes. 100 m keeps every return of common lidars (the
+/// project's lidar scans reach 44 m, the SICK scans of MRPT's SENA log 80 m); a point beyond
+/// is noisier than a 0.2 m cell at that range anyway.
+inline constexpr double kDefaultMaxRange = 100.0;
+
 /// How one scan is turned into hits and free rays.
 struct InsertOptions {
   double min_range = 0.0;  ///< points closer to the sensor are dropped (Default: 0 m)
-  double max_range = std::numeric_limits<double>::infinity();  ///< farther points give a
-                                                               ///< free ray truncated here and no
-                                                               ///< hit (Default: no limit)
+  /// Farther points give a free ray truncated here and no hit; inf for no limit (Default:
+  /// kDefaultMaxRange, 100 m).
+  double max_range = kDefaultMaxRange;
   RayMode ray_mode = RayMode::PerPoint;
   /// Threads tracing free rays (Default: 1, at most kMaxThreads). The map does not depend on
   /// it: counts are integers summed over threads. Not stored in map files.
   int threads = 1;
   static constexpr int kMaxThreads = 256;
+  /// Bytes the map and one scan's working memory may take; a scan that would need more is
+  /// refused with MemoryBudgetError and the map left as it was (Default: a quarter of the
+  /// physical memory, at most 512 MB). Like threads, not stored in map files.
+  uint64_t memory_budget = defaultMemoryBudget();
 };
 
 struct MapOptions {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -20,10 +21,16 @@ struct PointCloud {
   Eigen::Isometry3d viewpoint = Eigen::Isometry3d::Identity();
 };
 
-/// Throws PcdError with the file name and the reason (missing field, truncated data, ...).
-PointCloud readPcd(const std::string& path);
+/// Points a cloud may have unless the caller says otherwise (1.6 GB as Eigen vectors).
+inline constexpr uint64_t kDefaultMaxPcdPoints = uint64_t(1) << 26;
+
+/// Throws PcdError with the file name and the reason (missing field, truncated data, not a
+/// regular file or over 1 GiB, more than `max_points` points, ...). Every size in the header is
+/// checked before it is used, so no header makes the reader allocate more than the points.
+PointCloud readPcd(const std::string& path, uint64_t max_points = kDefaultMaxPcdPoints);
 /// Same, from bytes in memory; `name` is used in error messages.
-PointCloud parsePcd(const std::string& bytes, const std::string& name);
+PointCloud parsePcd(const std::string& bytes, const std::string& name,
+                    uint64_t max_points = kDefaultMaxPcdPoints);
 
 /// Writes a binary PCD with fields x y z (float32): used by tests and tools.
 void writePcdBinary(const std::string& path, const std::vector<Eigen::Vector3d>& points);

@@ -21,10 +21,13 @@ struct StampedPose {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor -> world
 };
 
-/// Reads every pose; Auto picks KITTI for 12 numbers per line and TUM for 8. Lines starting
-/// with '#' and blank lines are skipped. Throws PoseFileError naming the file and line.
-std::vector<StampedPose> readPoseFile(const std::string& path,
-                                      PoseFormat format = PoseFormat::Auto);
+/// Reads every pose; Auto takes KITTI if the first data line has 12 numbers and TUM for 8, and
+/// every line must then have that format. Lines starting with '#' and blank lines are
+/// skipped. `used`, if given, receives the format read. Throws PoseFileError naming the file
+/// and line (also for a KITTI rotation with determinant -1, or a file that is not a regular
+/// file of at most 256 MiB).
+std::vector<StampedPose> readPoseFile(const std::string& path, PoseFormat format = PoseFormat::Auto,
+                                      PoseFormat* used = nullptr);
 
 /// Pose from translation and quaternion (x, y, z, w as TUM writes them); rejects a zero
 /// or non-finite quaternion with std::invalid_argument.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -39,9 +40,15 @@ struct TumSequence {
 /// Ground truth is matched by the nearest time stamp within 20 ms.
 TumSequence readTumSequence(const std::string& folder);
 
+/// Largest depth image read (4096 x 4096): checked from the PNG header before decoding.
+inline constexpr uint64_t kMaxDepthImagePixels = uint64_t(1) << 24;
+
 /// Back-projects every `decimation`-th pixel of a 16-bit depth PNG into the camera's optical
-/// frame (x right, y down, z forward). Zero pixels (no reading) are skipped.
+/// frame (x right, y down, z forward). Zero pixels (no reading) are skipped. Throws TumError
+/// for a file that is not a regular file, not a 16-bit grey PNG, larger than
+/// kMaxDepthImagePixels, or that could give more than `max_points` points.
 std::vector<Eigen::Vector3d> readDepthImagePoints(const std::string& png_path,
-                                                  const DepthCamera& camera, int decimation = 1);
+                                                  const DepthCamera& camera, int decimation = 1,
+                                                  uint64_t max_points = kMaxDepthImagePixels);
 
 }  // namespace ndtom::io

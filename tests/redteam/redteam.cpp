@@ -1,0 +1,193 @@
+// The red team of issue #17, reproducible: generates hostile inputs per category, runs
+// ndtom-map and the loaders on each in a child process (time limit, address-space limit,
+// peak memory measured), tells crashes, hangs, silently wrong results, lost data and runs
+// over 1.5 GB apart from clean outcomes, and prints the table of doc/robustness.md.
+//
+//   ndtom-redteam --mapper PATH --probe PATH [--work DIR] [--only PREFIX] [--sample N]
+//                 [--no-address-limit] [--no-memory-check] [--csv FILE]
+//
+// Exit status 0 if every case is clean (an MRPT crash, confirmed by MRPT's own reader on the
+// same file, does not count against it), 1 otherwise.
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include "cases.h"
+
+using namespace redteam;
+
+namespace {
+
+enum Column {
+  kClean,
+  kCrash,
+  kHang,
+  kSilentWrong,
+  kDataLoss,
+  kMemory,
+  kUnclear,
+  kMrptCrash,
+  kColumns
+};
+const char* kColumnNames[kColumns] = {"clean",         "crash",        "hang",
+                                      "silent wrong",  "data loss",    "memory >= 1.5 GB",
+                                      "unclear error", "crash in MRPT"};
+
+struct Options {
+  std::string mapper, probe, work = "/tmp/ndtom-redteam", only, csv;
+  int sample = 1;
+  bool address_limit = true, memory_check = true;
+};
+
+Column classify(const Case& k, const Outcome& o, const std::string& note, const Options& opt) {
+  if (o.timed_out) return kHang;
+  if (note.rfind("mrpt:", 0) == 0) return kMrptCrash;
+  if (o.signal != 0 && !o.signalled_by_us) return kCrash;
+  const bool exited = o.exit_code >= 0;
+  if (exited && o.exit_code != 0 && o.exit_code != 1 && o.exit_code != 2 && o.exit_code != 4 &&
+      o.exit_code != 5)
+    return kCrash;
+  if (opt.memory_check && o.peak_rss >= uint64_t(1500) << 20) return kMemory;
+  if (o.exit_code == 4 || note.rfind("data loss:", 0) == 0) return kDataLoss;
+  if (o.exit_code == 5 || note.rfind("silent wrong:", 0) == 0) return kSilentWrong;
+  if (o.exit_code == 0 && k.expect == Expect::Refuse) return kSilentWrong;
+  if (o.exit_code == 1 || o.exit_code == 2) {
+    if (k.expect == Expect::Accept) return kUnclear;  // a valid input refused
+    if (lineCount(o.err) != 1 || o.err.find("bad_alloc") != std::string::npos ||
+        o.err.find("Cannot write bytes to stream") != std::string::npos)
+      return kUnclear;
+  }
+  if (note.rfind("unclear:", 0) == 0) return kUnclear;
+  return kClean;
+}
+
+std::string firstLine(const std::string& text) {
+  const std::string line = text.substr(0, text.find('\n'));
+  return line.size() > 160 ? line.substr(0, 157) + "..." : line;
+}
+
+std::string csvField(std::string s) {
+  for (char& ch : s)
+    if (ch == '"') ch = '\'';
+  return "\"" + s + "\"";
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&] {
+      if (i + 1 >= argc) throw std::runtime_error(a + ": missing value");
+      return std::string(argv[++i]);
+    };
+    if (a == "--mapper")
+      o.mapper = value();
+    else if (a == "--probe")
+      o.probe = value();
+    else if (a == "--work")
+      o.work = value();
+    else if (a == "--only")
+      o.only = value();
+    else if (a == "--csv")
+      o.csv = value();
+    else if (a == "--sample")
+      o.sample = std::max(1, std::stoi(value()));
+    else if (a == "--no-address-limit")
+      o.address_limit = false;
+    else if (a == "--no-memory-check")
+      o.memory_check = false;
+    else
+      throw std::runtime_error(a + ": unknown option");
+  }
+  if (o.mapper.empty() || o.probe.empty()) throw std::runtime_error("--mapper and --probe needed");
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options opt;
+  try {
+    opt = parse(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ndtom-redteam: %s\n", e.what());
+    return 2;
+  }
+  std::filesystem::remove_all(opt.work);
+  std::filesystem::create_directories(opt.work);
+  Context c{opt.mapper, opt.probe, opt.work,
+            std::string(NDTOM_SOURCE_DIR) + "/tests/data/balm-realworld",
+            std::string(NDTOM_SOURCE_DIR) + "/share/data/tum-fr2-pioneer-slam2"};
+  std::vector<Case> cases;
+  for (auto* make : {pcdHeaderCases, geometryMemoryCases, loaderCountCases, writableCases,
+                     silentValueCases, outputCases, smallCases, rawlogCases}) {
+    std::vector<Case> more = make(c);
+    for (size_t i = 0; i < more.size(); ++i)
+      if (more[i].category.rfind(opt.only, 0) == 0 && i % size_t(opt.sample) == 0)
+        cases.push_back(std::move(more[i]));
+  }
+  std::map<std::string, std::array<int, kColumns + 1>> table;  // [kColumns]: tried
+  std::map<std::string, uint64_t> max_rss_small;               // inputs under 10 MB
+  int over_1gb_small = 0;
+  std::ofstream csv;
+  if (!opt.csv.empty()) {
+    csv.open(opt.csv);
+    csv << "category,case,verdict,exit,signal,seconds,peak_rss_mb,input_bytes,note,stderr\n";
+  }
+  std::vector<std::string> problems;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    Case& k = cases[i];
+    if (!opt.address_limit) k.limits.address_space = ~uint64_t(0);
+    const uint64_t input = k.setup ? k.setup() : 0;
+    const Outcome o = runCommand(k.argv, k.limits, k.cwd);
+    const std::string note = k.check ? k.check(o) : "";
+    const Column verdict = classify(k, o, note, opt);
+    auto& row = table[k.category];
+    ++row[kColumns];
+    ++row[verdict];
+    if (input < 10000000 && verdict != kMrptCrash) {  // MRPT's reader's memory is not ours
+      max_rss_small[k.category] = std::max(max_rss_small[k.category], o.peak_rss);
+      over_1gb_small += o.peak_rss >= 1000000000;
+    }
+    char line[512];
+    std::snprintf(line, sizeof(line),
+                  "[%zu/%zu] %-14s %s | %s: exit %d signal %d %.1f s %.0f MB %s", i + 1,
+                  cases.size(), kColumnNames[verdict], k.category.c_str(), k.name.c_str(),
+                  o.exit_code, o.signal, o.seconds, double(o.peak_rss) / 1e6,
+                  firstLine(note.empty() ? o.err : note).c_str());
+    std::fprintf(stderr, "%s\n", line);
+    if (verdict != kClean) problems.push_back(line);
+    if (csv)
+      csv << csvField(k.category) << "," << csvField(k.name) << "," << kColumnNames[verdict] << ","
+          << o.exit_code << "," << o.signal << "," << o.seconds << "," << double(o.peak_rss) / 1e6
+          << "," << input << "," << csvField(note) << "," << csvField(firstLine(o.err)) << "\n";
+  }
+  std::printf("\n| category | tried |");
+  for (const char* name : kColumnNames) std::printf(" %s |", name);
+  std::printf(" max RSS, inputs < 10 MB, not MRPT's |\n|---|---:|");
+  for (int col = 0; col < kColumns; ++col) std::printf("---:|");
+  std::printf("---:|\n");
+  std::array<int, kColumns + 1> total{};
+  uint64_t max_all = 0;
+  for (const auto& [category, row] : table) {
+    std::printf("| %s | %d |", category.c_str(), row[kColumns]);
+    for (int col = 0; col < kColumns; ++col) std::printf(" %d |", row[col]);
+    std::printf(" %.0f MB |\n", double(max_rss_small[category]) / 1e6);
+    for (int col = 0; col <= kColumns; ++col) total[col] += row[col];
+    max_all = std::max(max_all, max_rss_small[category]);
+  }
+  std::printf("| **all** | %d |", total[kColumns]);
+  for (int col = 0; col < kColumns; ++col) std::printf(" %d |", total[col]);
+  std::printf(" %.0f MB |\n\nRuns of 1 GB or more on inputs under 10 MB (but MRPT's crashes): %d\n",
+              double(max_all) / 1e6, over_1gb_small);
+  if (!problems.empty()) {
+    std::printf("\nNot clean:\n");
+    for (const auto& p : problems) std::printf("  %s\n", p.c_str());
+  }
+  const int failures = total[kCrash] + total[kHang] + total[kSilentWrong] + total[kDataLoss] +
+                       total[kMemory] + total[kUnclear] + over_1gb_small;
+  return failures == 0 ? 0 : 1;
+}
