@@ -6,8 +6,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=${1:-build-asan}
 scripts/setup.sh
-cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNDTOM_SANITIZE=ON \
-  -DNDTOM_WITH_MRPT=ON -DNDTOM_BUILD_APPS=ON -DNDTOM_BUILD_TESTS=ON >/dev/null
+# -O1 -g1 (line tables only), as ASan's docs suggest: a third of -O2 -g's compile time for
+# the whole suite, and reports still name files and lines.
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+  -DNDTOM_SANITIZE=ON -DNDTOM_WITH_MRPT=ON -DNDTOM_BUILD_APPS=ON -DNDTOM_BUILD_TESTS=ON >/dev/null
 cmake --build "$dir" -j2
 # Suppressions only for reports from MRPT's code, each explained in its file.
 supp=$PWD/tests/sanitizers

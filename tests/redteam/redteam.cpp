@@ -8,6 +8,7 @@
 //
 // Exit status 0 if every case is clean (an MRPT crash, confirmed by MRPT's own reader on the
 // same file, does not count against it), 1 otherwise.
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -112,6 +113,7 @@ int main(int argc, char** argv) {
   Options opt;
   try {
     opt = parse(argc, argv);
+    limitAddressSpace(opt.address_limit);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ndtom-redteam: %s\n", e.what());
     return 2;
@@ -140,10 +142,19 @@ int main(int argc, char** argv) {
   std::vector<std::string> problems;
   for (size_t i = 0; i < cases.size(); ++i) {
     Case& k = cases[i];
-    if (!opt.address_limit) k.limits.address_space = ~uint64_t(0);
-    const uint64_t input = k.setup ? k.setup() : 0;
-    const Outcome o = runCommand(k.argv, k.limits, k.cwd);
-    const std::string note = k.check ? k.check(o) : "";
+    uint64_t input = 0;
+    Outcome o;
+    std::string note;
+    try {
+      input = k.setup ? k.setup() : 0;
+      o = runCommand(k.argv, k.limits, k.cwd);
+      note = k.check ? k.check(o) : "";
+    } catch (const std::exception& e) {  // the harness's own failure, not the program's
+      problems.push_back("[" + std::to_string(i + 1) + "] harness error in " + k.category +
+                         " | " + k.name + ": " + e.what());
+      std::fprintf(stderr, "%s\n", problems.back().c_str());
+      continue;
+    }
     const Column verdict = classify(k, o, note, opt);
     auto& row = table[k.category];
     ++row[kColumns];
@@ -187,7 +198,11 @@ int main(int argc, char** argv) {
     std::printf("\nNot clean:\n");
     for (const auto& p : problems) std::printf("  %s\n", p.c_str());
   }
-  const int failures = total[kCrash] + total[kHang] + total[kSilentWrong] + total[kDataLoss] +
+  const int harness_errors =
+      int(std::count_if(problems.begin(), problems.end(), [](const std::string& p) {
+        return p.find("] harness error in ") != std::string::npos;
+      }));
+  const int failures = harness_errors + total[kCrash] + total[kHang] + total[kSilentWrong] + total[kDataLoss] +
                        total[kMemory] + total[kUnclear] + over_1gb_small;
   return failures == 0 ? 0 : 1;
 }

@@ -38,6 +38,12 @@ int lineCount(const std::string& text) {
   return lines + (!text.empty() && text.back() != '\n');
 }
 
+namespace {
+bool address_space_limited = true;
+}  // namespace
+
+void limitAddressSpace(bool on) { address_space_limited = on; }
+
 Outcome runCommand(const std::vector<std::string>& argv, const RunLimits& limits,
                    const std::string& cwd) {
   // Pipes, not files: a file-size limit on the child must not cut its messages.
@@ -53,8 +59,10 @@ Outcome runCommand(const std::vector<std::string>& argv, const RunLimits& limits
     close(err_pipe[0]);
     const int null = open("/dev/null", O_RDONLY);
     dup2(null, 0);
-    const rlimit as{limits.address_space, limits.address_space};
-    setrlimit(RLIMIT_AS, &as);
+    if (address_space_limited) {
+      const rlimit as{limits.address_space, limits.address_space};
+      setrlimit(RLIMIT_AS, &as);
+    }
     if (limits.file_size > 0) {
       const rlimit fs{limits.file_size, limits.file_size};
       setrlimit(RLIMIT_FSIZE, &fs);

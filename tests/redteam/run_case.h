@@ -26,6 +26,10 @@ struct Outcome {
   std::string out, err;
 };
 
+/// Whether runCommand applies RunLimits::address_space (default on). Off under the sanitizers,
+/// whose shadow memory needs terabytes of address space: every child, setups included.
+void limitAddressSpace(bool on);
+
 /// Runs argv[0] with arguments argv[1..] (no shell), in folder `cwd` (if not empty).
 Outcome runCommand(const std::vector<std::string>& argv, const RunLimits& limits = {},
                    const std::string& cwd = "");
