@@ -1,4 +1,4 @@
-// CNDTOccupancyMap: an NDT Occupancy Map (Saarinen et al., IROS 2013) as an MRPT metric map.
+// CNDTOccupancyMap: an NDT Occupancy Map (Saarinen et al., ICRA 2013) as an MRPT metric map.
 // A thin adapter: observations become world-frame points plus a sensor origin, and every
 // algorithm runs in the ndtom core.
 //

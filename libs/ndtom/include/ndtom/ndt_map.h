@@ -1,4 +1,4 @@
-// NDT Occupancy Map (Saarinen et al., IROS 2013): a sparse grid whose cells hold exact
+// NDT Occupancy Map (Saarinen et al., ICRA 2013): a sparse grid whose cells hold exact
 // recursive Gaussian statistics (Sec. III-A) and an occupancy log-odds (Sec. III-C).
 //
 // Threading contract: const member functions may run concurrently with each other; any
