@@ -5,10 +5,12 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <thread>
 #include <vector>
 
+#include "ndtom_apps/command_line.h"
 #include "ndtom_apps/option_values.h"
 
 namespace ndtom::localizer {
@@ -208,26 +210,16 @@ LocalizeOptions parseLocalizeOptions(int argc, char** argv) {
       int(std::max(1u, std::min(256u, std::thread::hardware_concurrency())));
   const auto& table = optionTable();
   std::vector<std::string> positional;
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i], value;
-    const size_t eq = arg.find('=');
-    const bool inline_value = arg.rfind("--", 0) == 0 && eq != std::string::npos;
-    if (inline_value) {
-      value = arg.substr(eq + 1);
-      arg = arg.substr(0, eq);
-    }
-    if (arg.size() < 2 || arg[0] != '-') {
-      positional.push_back(arg);
-      continue;
-    }
-    const auto spec = table.find(arg);
-    if (spec == table.end()) throw UsageError(arg + ": unknown option (see --help)");
-    if (!spec->second.takes_value && inline_value) throw UsageError(arg + ": takes no value");
-    if (spec->second.takes_value && !inline_value) {
-      if (i + 1 >= argc) throw UsageError(arg + ": missing value");
-      value = argv[++i];
-    }
-    spec->second.handle(o, value);
+  const auto takes_value = [&](const std::string& name) -> std::optional<bool> {
+    const auto spec = table.find(name);
+    if (spec == table.end()) return std::nullopt;
+    return spec->second.takes_value;
+  };
+  for (const apps::Argument& a : apps::splitArguments(argc, argv, takes_value)) {
+    if (a.positional())
+      positional.push_back(a.value);
+    else
+      table.at(a.name).handle(o, a.value);
   }
   if (positional.size() > 2) throw UsageError("more than MAP and INPUT: '" + positional[2] + "'");
   if (positional.size() > 0) o.map_path = positional[0];

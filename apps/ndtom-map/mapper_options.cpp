@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <functional>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <vector>
 
+#include "ndtom_apps/command_line.h"
 #include "ndtom_apps/option_values.h"
 
 namespace ndtom::mapper {
@@ -108,32 +110,22 @@ void checkComplete(const MapperOptions& o) {
 MapperOptions parseMapperOptions(int argc, char** argv) {
   MapperOptions o;
   const auto& table = optionTable();
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i], value;
-    const size_t eq = arg.find('=');
-    const bool inline_value = arg.rfind("--", 0) == 0 && eq != std::string::npos;
-    if (inline_value) {
-      value = arg.substr(eq + 1);
-      arg = arg.substr(0, eq);
+  // Insertion options (--resolution, ...) go to the map's own loader, by their .ini key.
+  const auto takes_value = [&](const std::string& name) -> std::optional<bool> {
+    if (!insertionKeyOf(name).empty()) return true;
+    const auto spec = table.find(name);
+    if (spec == table.end()) return std::nullopt;
+    return spec->second.takes_value;
+  };
+  for (const apps::Argument& a : apps::splitArguments(argc, argv, takes_value)) {
+    if (a.positional()) {
+      if (!o.input.empty()) throw UsageError("more than one INPUT: '" + a.value + "'");
+      o.input = a.value;
+    } else if (const std::string key = insertionKeyOf(a.name); !key.empty()) {
+      o.insertion.overrides.emplace_back(key, a.value);
+    } else {
+      table.at(a.name).handle(o, a.value);
     }
-    if (arg.size() < 2 || arg[0] != '-') {  // a positional argument, "-" or ""
-      if (!o.input.empty()) throw UsageError("more than one INPUT: '" + arg + "'");
-      o.input = arg;
-      continue;
-    }
-    const auto spec = table.find(arg);
-    const std::string key = insertionKeyOf(arg);
-    if (spec == table.end() && key.empty()) throw UsageError(arg + ": unknown option (see --help)");
-    const bool takes_value = key.empty() ? spec->second.takes_value : true;
-    if (!takes_value && inline_value) throw UsageError(arg + ": takes no value");
-    if (takes_value && !inline_value) {
-      if (i + 1 >= argc) throw UsageError(arg + ": missing value");
-      value = argv[++i];
-    }
-    if (!key.empty())
-      o.insertion.overrides.emplace_back(key, value);
-    else
-      spec->second.handle(o, value);
   }
   if (!o.help) checkComplete(o);
   return o;

@@ -83,6 +83,11 @@ struct SourceSettings {
   bool poses_optional = false;
 };
 
+/// One time stamp per scan from a times.txt beside PCD scans (line i: the i-th scan's time),
+/// or the scan indices 0, 1, ... where `path` does not exist. Throws InputError if it is not a
+/// regular file, a line is not a number, or the count is not `scans`.
+std::vector<double> readScanTimes(const std::string& path, size_t scans);
+
 /// The scan's points in its own frame (Scan::frame_pose).
 std::vector<Eigen::Vector3d> pointsInFrame(const Scan& scan);
 

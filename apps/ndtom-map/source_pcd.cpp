@@ -9,6 +9,7 @@
 #include "input_format.h"
 #include "natural_order.h"
 #include "ndtom/checked_size.h"
+#include "ndtom/input_file.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_io/pcd_reader.h"
 #include "scan_source.h"
@@ -28,30 +29,6 @@ std::vector<std::string> pcdFilesInNaturalOrder(const std::string& folder) {
   return names;
 }
 
-// One time stamp per scan from `path`, or the scan indices where the file does not exist.
-std::vector<double> readTimes(const std::string& path, size_t scans) {
-  std::vector<double> times;
-  if (!fs::exists(path)) {
-    for (size_t i = 0; i < scans; ++i) times.push_back(double(i));
-    return times;
-  }
-  std::ifstream in(path);
-  std::string line;
-  for (size_t number = 1; std::getline(in, line); ++number) {
-    line = apps::trim(line);
-    if (line.empty() || line[0] == '#') continue;
-    try {
-      times.push_back(apps::parseReal(path, line));
-    } catch (const std::exception&) {
-      throw InputError(path + ":" + std::to_string(number) + ": not a time stamp: '" + line + "'");
-    }
-  }
-  if (times.size() != scans)
-    throw InputError(path + ": " + std::to_string(times.size()) + " time stamps for " +
-                     std::to_string(scans) + " .pcd files (line i is the time of the i-th scan)");
-  return times;
-}
-
 class PcdFolderSource : public ScanSource {
  public:
   explicit PcdFolderSource(const SourceSettings& s)
@@ -69,7 +46,7 @@ class PcdFolderSource : public ScanSource {
       if (!s.poses_optional || !s.poses_file.empty())
         throw InputError(poses_path_ + ": no pose file (give the scans' poses with --poses FILE)");
       poses_path_.clear();
-      times_ = readTimes((fs::path(folder_) / "times.txt").string(), files_.size());
+      times_ = readScanTimes((fs::path(folder_) / "times.txt").string(), files_.size());
     } else {
       try {
         poses_ = ndtom::io::readPoseFile(poses_path_, s.pose_format);
@@ -132,6 +109,37 @@ class PcdFolderSource : public ScanSource {
 };
 
 }  // namespace
+
+std::vector<double> readScanTimes(const std::string& path, size_t scans) {
+  std::vector<double> times;
+  if (!fs::exists(path)) {
+    for (size_t i = 0; i < scans; ++i) times.push_back(double(i));
+    return times;
+  }
+  // A line of at most ~40 bytes per scan: 64 MB is over a million scans.
+  constexpr uint64_t kMaxTimesFileBytes = uint64_t(64) << 20;
+  std::istringstream in;
+  try {
+    in.str(ndtom::readInputFile(path, kMaxTimesFileBytes, "time stamp file"));
+  } catch (const ndtom::InputFileError& e) {
+    throw InputError(e.what());
+  }
+  std::string line;
+  for (size_t number = 1; std::getline(in, line); ++number) {
+    line = apps::trim(line);
+    if (line.empty() || line[0] == '#') continue;
+    try {
+      times.push_back(apps::parseReal(path, line));
+    } catch (const std::exception&) {
+      throw InputError(path + ":" + std::to_string(number) + ": not a time stamp: '" + line + "'");
+    }
+  }
+  if (times.size() != scans)
+    throw InputError(path + ": " + std::to_string(times.size()) + " time stamps for " +
+                     std::to_string(scans) + " .pcd files (line i is the time of the i-th scan)");
+  return times;
+}
+
 
 std::unique_ptr<ScanSource> openPcdFolder(const SourceSettings& settings) {
   return std::make_unique<PcdFolderSource>(settings);

@@ -32,33 +32,6 @@ mrpt::poses::CPose3D toPose(const Eigen::Isometry3d& t) {
   return mrpt::poses::CPose3D(m);
 }
 
-// KITTI pose files carry no time: times.txt beside them does, one line per scan. Without
-// it scan i is at i seconds.
-std::vector<double> scanTimes(const std::string& folder, size_t scans) {
-  const fs::path path = fs::path(folder) / "times.txt";
-  std::vector<double> times;
-  if (!fs::exists(path)) {
-    for (size_t i = 0; i < scans; ++i) times.push_back(double(i));
-    return times;
-  }
-  std::ifstream in(path);
-  std::string line;
-  for (size_t number = 1; std::getline(in, line); ++number) {
-    line = apps::trim(line);
-    if (line.empty() || line[0] == '#') continue;
-    try {
-      times.push_back(apps::parseReal(path.string(), line));
-    } catch (const std::exception&) {
-      throw InputError(path.string() + ":" + std::to_string(number) + ": not a time stamp: '" +
-                       line + "'");
-    }
-  }
-  if (times.size() < scans)
-    throw InputError(path.string() + ": " + std::to_string(times.size()) + " time stamps for " +
-                     std::to_string(scans) + " scans (line i is the time of the i-th scan)");
-  return times;
-}
-
 void checkRange(const char* option, const ScanRange& r, size_t scans, const std::string& folder) {
   if (r.last >= scans)
     throw apps::UsageError(std::string(option) + " " + std::to_string(r.first) + ":" +
@@ -114,7 +87,9 @@ ConversionReport convertFolder(const RawlogOptions& o, apps::Progress& progress)
   checkRange("--scans", log, scans, o.folder);
   if (o.map_scans) checkRange("--map-scans", *o.map_scans, scans, o.folder);
   const size_t needed = std::max(log.last, o.map_scans ? o.map_scans->last : 0) + 1;
-  const std::vector<double> times = scanTimes(o.folder, scans);
+  // KITTI pose files carry no time: times.txt beside them does.
+  const std::vector<double> times =
+      mapper::readScanTimes((fs::path(o.folder) / "times.txt").string(), scans);
 
   mapper::OutputFiles out(o.prefix);
   mrpt::io::CFileOutputStream rawlog_file;

@@ -2,8 +2,10 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <vector>
 
+#include "ndtom_apps/command_line.h"
 #include "ndtom_apps/option_values.h"
 
 namespace ndtom::rawlog {
@@ -84,26 +86,16 @@ RawlogOptions parseRawlogOptions(int argc, char** argv) {
   RawlogOptions o;
   const auto& table = optionTable();
   std::vector<std::string> positional;
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i], value;
-    const size_t eq = arg.find('=');
-    const bool inline_value = arg.rfind("--", 0) == 0 && eq != std::string::npos;
-    if (inline_value) {
-      value = arg.substr(eq + 1);
-      arg = arg.substr(0, eq);
-    }
-    if (arg.size() < 2 || arg[0] != '-') {
-      positional.push_back(arg);
-      continue;
-    }
-    const auto spec = table.find(arg);
-    if (spec == table.end()) throw UsageError(arg + ": unknown option (see --help)");
-    if (!spec->second.takes_value && inline_value) throw UsageError(arg + ": takes no value");
-    if (spec->second.takes_value && !inline_value) {
-      if (i + 1 >= argc) throw UsageError(arg + ": missing value");
-      value = argv[++i];
-    }
-    spec->second.handle(o, value);
+  const auto takes_value = [&](const std::string& name) -> std::optional<bool> {
+    const auto spec = table.find(name);
+    if (spec == table.end()) return std::nullopt;
+    return spec->second.takes_value;
+  };
+  for (const apps::Argument& a : apps::splitArguments(argc, argv, takes_value)) {
+    if (a.positional())
+      positional.push_back(a.value);
+    else
+      table.at(a.name).handle(o, a.value);
   }
   if (positional.size() > 1) throw UsageError("more than one FOLDER: '" + positional[1] + "'");
   if (!positional.empty()) o.folder = positional[0];

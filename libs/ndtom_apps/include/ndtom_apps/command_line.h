@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,23 @@ void forEachArgument(int argc, const char* const argv[], const std::vector<std::
                      const std::function<void(const std::string& name)>& flag,
                      const std::function<void(const std::string& name, const std::string& value)>&
                          option);
+
+/// One argument of a command line in the style of ndtom-map: an option with its value (empty
+/// for a flag) or a positional argument (name empty).
+struct Argument {
+  std::string name;
+  std::string value;
+  bool positional() const { return name.empty(); }
+};
+
+/// Splits argv[1..argc-1] into arguments: "--name=value", "--name value", "-o value", a flag
+/// "--name", or a positional argument ("-" and "" included). `takes_value(name)` says whether
+/// an option takes a value, std::nullopt for names the program does not know. Throws
+/// UsageError "NAME: unknown option (see --help)", "NAME: takes no value" or
+/// "NAME: missing value".
+std::vector<Argument> splitArguments(
+    int argc, const char* const argv[],
+    const std::function<std::optional<bool>(const std::string& name)>& takes_value);
 
 /// The UsageError for an argument no program option has: "unknown option 'NAME' (see --help)".
 UsageError unknownOption(const std::string& name);
