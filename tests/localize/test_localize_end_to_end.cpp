@@ -9,6 +9,7 @@
 
 #include "mapper/mapper_run.h"
 #include "ndtom_io/pose_file.h"
+#include "support/special_files.h"
 
 using namespace mapper_test;
 
@@ -202,4 +203,17 @@ TEST(LocalizeEndToEnd, BadCommandLinesAndInputsFailCleanly) {
     EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
   }
   EXPECT_FALSE(fs::exists(f.dir / "x.tum"));
+
+  // times.txt that is not a regular file: refused by name, not read (a FIFO would block).
+  const fs::path fifo_scans = f.dir / "fifo-scans";
+  fs::create_directories(fifo_scans);
+  fs::copy_file(f.scans / "full5.pcd", fifo_scans / "full5.pcd");
+  const ndtom::testing::Fifo times((fifo_scans / "times.txt").string(), 30);
+  const ProgramRun run = runExecutable(
+      kLocalize,
+      mapper_test::quoted(f.map) + " " + mapper_test::quoted(fifo_scans.string()) + " -o " +
+          mapper_test::quoted((f.dir / "y").string()) + start,
+      f.dir);
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("times.txt: a FIFO, not a regular file"), std::string::npos) << run.err;
 }
