@@ -140,7 +140,6 @@ std::vector<double> readScanTimes(const std::string& path, size_t scans) {
   return times;
 }
 
-
 std::unique_ptr<ScanSource> openPcdFolder(const SourceSettings& settings) {
   return std::make_unique<PcdFolderSource>(settings);
 }

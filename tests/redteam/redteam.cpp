@@ -150,8 +150,8 @@ int main(int argc, char** argv) {
       o = runCommand(k.argv, k.limits, k.cwd);
       note = k.check ? k.check(o) : "";
     } catch (const std::exception& e) {  // the harness's own failure, not the program's
-      problems.push_back("[" + std::to_string(i + 1) + "] harness error in " + k.category +
-                         " | " + k.name + ": " + e.what());
+      problems.push_back("[" + std::to_string(i + 1) + "] harness error in " + k.category + " | " +
+                         k.name + ": " + e.what());
       std::fprintf(stderr, "%s\n", problems.back().c_str());
       continue;
     }
@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
       int(std::count_if(problems.begin(), problems.end(), [](const std::string& p) {
         return p.find("] harness error in ") != std::string::npos;
       }));
-  const int failures = harness_errors + total[kCrash] + total[kHang] + total[kSilentWrong] + total[kDataLoss] +
-                       total[kMemory] + total[kUnclear] + over_1gb_small;
+  const int failures = harness_errors + total[kCrash] + total[kHang] + total[kSilentWrong] +
+                       total[kDataLoss] + total[kMemory] + total[kUnclear] + over_1gb_small;
   return failures == 0 ? 0 : 1;
 }

@@ -42,7 +42,9 @@ namespace {
 bool address_space_limited = true;
 }  // namespace
 
-void limitAddressSpace(bool on) { address_space_limited = on; }
+void limitAddressSpace(bool on) {
+  address_space_limited = on;
+}
 
 Outcome runCommand(const std::vector<std::string>& argv, const RunLimits& limits,
                    const std::string& cwd) {
