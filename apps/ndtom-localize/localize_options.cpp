@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
-#include <functional>
 #include <map>
-#include <optional>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -19,13 +17,6 @@ namespace {
 using apps::parseInteger;
 using apps::parseReal;
 using apps::UsageError;
-
-using Handler = std::function<void(LocalizeOptions&, const std::string& value)>;
-
-struct OptionSpec {
-  bool takes_value;
-  Handler handle;
-};
 
 std::vector<int> parseLevels(const std::string& text) {
   std::vector<int> levels;
@@ -41,9 +32,9 @@ ndtom::io::PoseFormat poseFormatFromName(const std::string& option, const std::s
   throw UsageError(option + ": expected auto, kitti or tum, got '" + name + "'");
 }
 
-const std::map<std::string, OptionSpec>& optionTable() {
+const apps::OptionTable<LocalizeOptions>& optionTable() {
   using O = LocalizeOptions;
-  static const std::map<std::string, OptionSpec> table = {
+  static const apps::OptionTable<LocalizeOptions> table = {
       {"-o", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
       {"--output", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
       {"--format",
@@ -208,19 +199,7 @@ LocalizeOptions parseLocalizeOptions(int argc, char** argv) {
   LocalizeOptions o;
   o.tracking.registration.threads =
       int(std::max(1u, std::min(256u, std::thread::hardware_concurrency())));
-  const auto& table = optionTable();
-  std::vector<std::string> positional;
-  const auto takes_value = [&](const std::string& name) -> std::optional<bool> {
-    const auto spec = table.find(name);
-    if (spec == table.end()) return std::nullopt;
-    return spec->second.takes_value;
-  };
-  for (const apps::Argument& a : apps::splitArguments(argc, argv, takes_value)) {
-    if (a.positional())
-      positional.push_back(a.value);
-    else
-      table.at(a.name).handle(o, a.value);
-  }
+  const std::vector<std::string> positional = apps::applyArguments(argc, argv, optionTable(), o);
   if (positional.size() > 2) throw UsageError("more than MAP and INPUT: '" + positional[2] + "'");
   if (positional.size() > 0) o.map_path = positional[0];
   if (positional.size() > 1) o.input = positional[1];

@@ -1,7 +1,6 @@
 #include "mapper_options.h"
 
 #include <algorithm>
-#include <functional>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -17,13 +16,6 @@ using apps::parseInteger;
 using apps::parseReal;
 using apps::UsageError;
 
-using Handler = std::function<void(MapperOptions&, const std::string& value)>;
-
-struct OptionSpec {
-  bool takes_value;
-  Handler handle;
-};
-
 ndtom::io::PoseFormat poseFormatFromName(const std::string& name) {
   if (name == "auto") return ndtom::io::PoseFormat::Auto;
   if (name == "kitti") return ndtom::io::PoseFormat::Kitti;
@@ -37,9 +29,9 @@ double positive(const std::string& option, const std::string& text) {
   return v;
 }
 
-const std::map<std::string, OptionSpec>& optionTable() {
+const apps::OptionTable<MapperOptions>& optionTable() {
   using O = MapperOptions;
-  static const std::map<std::string, OptionSpec> table = {
+  static const apps::OptionTable<MapperOptions> table = {
       {"-o", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
       {"--output", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
       {"--format", {true, [](O& o, const std::string& v) { o.format = inputFormatFromName(v); }}},

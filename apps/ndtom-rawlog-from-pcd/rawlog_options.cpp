@@ -1,8 +1,6 @@
 #include "rawlog_options.h"
 
-#include <functional>
 #include <map>
-#include <optional>
 #include <vector>
 
 #include "ndtom_apps/command_line.h"
@@ -15,22 +13,15 @@ using apps::parseInteger;
 using apps::parseReal;
 using apps::UsageError;
 
-using Handler = std::function<void(RawlogOptions&, const std::string& value)>;
-
-struct OptionSpec {
-  bool takes_value;
-  Handler handle;
-};
-
 double parseStd(const std::string& option, const std::string& text) {
   const double v = parseReal(option, text);
   if (!(v >= 0)) throw UsageError(option + " " + text + ": must be >= 0");
   return v;
 }
 
-const std::map<std::string, OptionSpec>& optionTable() {
+const apps::OptionTable<RawlogOptions>& optionTable() {
   using O = RawlogOptions;
-  static const std::map<std::string, OptionSpec> table = {
+  static const apps::OptionTable<RawlogOptions> table = {
       {"-o", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
       {"--output", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
       {"--scans",
@@ -84,19 +75,7 @@ ScanRange parseScanRange(const std::string& option, const std::string& text) {
 
 RawlogOptions parseRawlogOptions(int argc, char** argv) {
   RawlogOptions o;
-  const auto& table = optionTable();
-  std::vector<std::string> positional;
-  const auto takes_value = [&](const std::string& name) -> std::optional<bool> {
-    const auto spec = table.find(name);
-    if (spec == table.end()) return std::nullopt;
-    return spec->second.takes_value;
-  };
-  for (const apps::Argument& a : apps::splitArguments(argc, argv, takes_value)) {
-    if (a.positional())
-      positional.push_back(a.value);
-    else
-      table.at(a.name).handle(o, a.value);
-  }
+  const std::vector<std::string> positional = apps::applyArguments(argc, argv, optionTable(), o);
   if (positional.size() > 1) throw UsageError("more than one FOLDER: '" + positional[1] + "'");
   if (!positional.empty()) o.folder = positional[0];
   if (!o.help) checkComplete(o);

@@ -140,6 +140,7 @@ int main(int argc, char** argv) {
     csv << "category,case,verdict,exit,signal,seconds,peak_rss_mb,input_bytes,note,stderr\n";
   }
   std::vector<std::string> problems;
+  int harness_errors = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
     Case& k = cases[i];
     uint64_t input = 0;
@@ -150,6 +151,7 @@ int main(int argc, char** argv) {
       o = runCommand(k.argv, k.limits, k.cwd);
       note = k.check ? k.check(o) : "";
     } catch (const std::exception& e) {  // the harness's own failure, not the program's
+      ++harness_errors;
       problems.push_back("[" + std::to_string(i + 1) + "] harness error in " + k.category + " | " +
                          k.name + ": " + e.what());
       std::fprintf(stderr, "%s\n", problems.back().c_str());
@@ -198,10 +200,6 @@ int main(int argc, char** argv) {
     std::printf("\nNot clean:\n");
     for (const auto& p : problems) std::printf("  %s\n", p.c_str());
   }
-  const int harness_errors =
-      int(std::count_if(problems.begin(), problems.end(), [](const std::string& p) {
-        return p.find("] harness error in ") != std::string::npos;
-      }));
   const int failures = harness_errors + total[kCrash] + total[kHang] + total[kSilentWrong] +
                        total[kDataLoss] + total[kMemory] + total[kUnclear] + over_1gb_small;
   return failures == 0 ? 0 : 1;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,6 +39,37 @@ struct Argument {
 std::vector<Argument> splitArguments(
     int argc, const char* const argv[],
     const std::function<std::optional<bool>(const std::string& name)>& takes_value);
+
+/// An option of a program whose command line is a table: whether it takes a value, and how
+/// it sets it in the program's options.
+template <typename Options>
+struct OptionSpec {
+  bool takes_value;
+  std::function<void(Options&, const std::string& value)> handle;
+};
+
+template <typename Options>
+using OptionTable = std::map<std::string, OptionSpec<Options>>;
+
+/// Sets `options` from argv[1..argc-1] through `table` (splitArguments' rules) and returns the
+/// positional arguments in order.
+template <typename Options>
+std::vector<std::string> applyArguments(int argc, const char* const argv[],
+                                        const OptionTable<Options>& table, Options& options) {
+  const auto takes_value = [&](const std::string& name) -> std::optional<bool> {
+    const auto spec = table.find(name);
+    if (spec == table.end()) return std::nullopt;
+    return spec->second.takes_value;
+  };
+  std::vector<std::string> positional;
+  for (const Argument& a : splitArguments(argc, argv, takes_value)) {
+    if (a.positional())
+      positional.push_back(a.value);
+    else
+      table.at(a.name).handle(options, a.value);
+  }
+  return positional;
+}
 
 /// The UsageError for an argument no program option has: "unknown option 'NAME' (see --help)".
 UsageError unknownOption(const std::string& name);
