@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <thread>
 
@@ -64,6 +65,14 @@ Outcome runCommand(const std::vector<std::string>& argv, const RunLimits& limits
     if (address_space_limited) {
       const rlimit as{limits.address_space, limits.address_space};
       setrlimit(RLIMIT_AS, &as);
+    } else {
+      // Under ASan a bound on resident memory instead (its max_allocation_size is ignored by
+      // GCC 12's runtime): else a huge allocation in MRPT's reader is granted and zero-filled,
+      // tens of gigabytes. 2 GB: a run over 1.5 GB is a failure anyway.
+      const char* inherited = getenv("ASAN_OPTIONS");
+      const std::string asan =
+          std::string(inherited ? inherited : "") + ":hard_rss_limit_mb=2048:abort_on_error=1";
+      setenv("ASAN_OPTIONS", asan.c_str(), 1);
     }
     if (limits.file_size > 0) {
       const rlimit fs{limits.file_size, limits.file_size};

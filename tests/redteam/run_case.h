@@ -27,7 +27,8 @@ struct Outcome {
 };
 
 /// Whether runCommand applies RunLimits::address_space (default on). Off under the sanitizers,
-/// whose shadow memory needs terabytes of address space: every child, setups included.
+/// whose shadow memory needs terabytes of address space: every child, setups included; ASan's
+/// hard_rss_limit_mb (2 GB) bounds them instead.
 void limitAddressSpace(bool on);
 
 /// Runs argv[0] with arguments argv[1..] (no shell), in folder `cwd` (if not empty).
