@@ -4,6 +4,9 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "archive_checks.h"
 #include "ndtom/map_io.h"
@@ -22,11 +25,13 @@ void CNDTOccupancyMap::TMapDefinition::loadFromConfigFile_map_specific(
   // [<sectionNamePrefix>_creationOpts] holds only genericMapParams, read by the base class.
   insertionOpts.loadFromConfigFile(source, sectionNamePrefix + "_insertOpts");
   likelihoodOpts.loadFromConfigFile(source, sectionNamePrefix + "_likelihoodOpts");
+  renderOpts.loadFromConfigFile(source, sectionNamePrefix + "_renderOpts");
 }
 
 void CNDTOccupancyMap::TMapDefinition::dumpToTextStream_map_specific(std::ostream& out) const {
   insertionOpts.dumpToTextStream(out);
   likelihoodOpts.dumpToTextStream(out);
+  renderOpts.dumpToTextStream(out);
 }
 
 mrpt::maps::CMetricMap* CNDTOccupancyMap::internal_CreateFromMapDefinition(
@@ -35,6 +40,7 @@ mrpt::maps::CMetricMap* CNDTOccupancyMap::internal_CreateFromMapDefinition(
   auto* map = new CNDTOccupancyMap(def.insertionOpts.resolution);
   map->insertionOptions = def.insertionOpts;
   map->likelihoodOptions = def.likelihoodOpts;
+  map->renderOptions = def.renderOpts;
   map->applyInsertionOptions();
   return map;
 }
@@ -56,18 +62,56 @@ struct RegisterClasses {
 namespace mrpt_ndtom {
 namespace {
 
-// Leaves out insertion.threads and memory_budget: they do not change the map, so a new value
-// must not rebuild it (insertPoints passes them with each scan).
+// The first option in which a and b differ, as "name (a vs b)"; empty if none. Leaves out
+// insertion.threads and memory_budget: they do not change the map, so a new value must not
+// rebuild it (insertPoints passes them with each scan).
+std::string optionDifference(const ndtom::MapOptions& a, const ndtom::MapOptions& b) {
+  const auto differ = [](const char* name, double x, double y) {
+    return x == y ? std::string() : mrpt::format("%s (%.17g vs %.17g)", name, x, y);
+  };
+  const std::pair<const char*, std::pair<double, double>> fields[] = {
+      {"resolution", {a.resolution, b.resolution}},
+      {"occupancy_enabled", {a.occupancy.enabled, b.occupancy.enabled}},
+      {"p_hit", {a.occupancy.p_hit, b.occupancy.p_hit}},
+      {"p_miss", {a.occupancy.p_miss, b.occupancy.p_miss}},
+      {"logodds_min", {a.occupancy.logodds_min, b.occupancy.logodds_min}},
+      {"logodds_max", {a.occupancy.logodds_max, b.occupancy.logodds_max}},
+      {"min_range", {a.insertion.min_range, b.insertion.min_range}},
+      {"max_range", {a.insertion.max_range, b.insertion.max_range}},
+      {"ray_mode", {double(a.insertion.ray_mode), double(b.insertion.ray_mode)}},
+      {"min_eigen_ratio", {a.regularization.min_eigen_ratio, b.regularization.min_eigen_ratio}},
+      {"min_eigen_abs", {a.regularization.min_eigen_abs, b.regularization.min_eigen_abs}}};
+  for (const auto& [name, values] : fields) {
+    std::string d = differ(name, values.first, values.second);
+    if (!d.empty()) return d;
+  }
+  return {};
+}
+
 bool sameOptions(const ndtom::MapOptions& a, const ndtom::MapOptions& b) {
-  return a.resolution == b.resolution && a.occupancy.enabled == b.occupancy.enabled &&
-         a.occupancy.p_hit == b.occupancy.p_hit && a.occupancy.p_miss == b.occupancy.p_miss &&
-         a.occupancy.logodds_min == b.occupancy.logodds_min &&
-         a.occupancy.logodds_max == b.occupancy.logodds_max &&
-         a.insertion.min_range == b.insertion.min_range &&
-         a.insertion.max_range == b.insertion.max_range &&
-         a.insertion.ray_mode == b.insertion.ray_mode &&
-         a.regularization.min_eigen_ratio == b.regularization.min_eigen_ratio &&
-         a.regularization.min_eigen_abs == b.regularization.min_eigen_abs;
+  return optionDifference(a, b).empty();
+}
+
+ndtom::MapOptions mapOptionsOf(const CNDTOccupancyMap::TInsertionOptions& options) {
+  try {
+    return options.toMapOptions();
+  } catch (const std::exception& e) {
+    THROW_EXCEPTION(std::string("CNDTOccupancyMap::insertionOptions: ") + e.what());
+  }
+}
+
+// `map` under options `wanted`: a fresh map if it is empty, else the same cells merged into a
+// map with the new occupancy bounds or regularisation. The resolution of cells cannot change.
+ndtom::NdtMap mapUnder(const ndtom::NdtMap& map, const ndtom::MapOptions& wanted) {
+  if (map.isEmpty()) return ndtom::NdtMap(wanted);
+  if (wanted.resolution != map.options().resolution)
+    THROW_EXCEPTION(mrpt::format(
+        "CNDTOccupancyMap: resolution cannot change from %g m to %g m once the map holds "
+        "data; clear() the map first",
+        map.options().resolution, wanted.resolution));
+  ndtom::NdtMap rebuilt(wanted);
+  rebuilt.merge(map);
+  return rebuilt;
 }
 
 // The `size` bytes of the map data, read in chunks so that a corrupt size fails at the end of
@@ -141,16 +185,19 @@ CNDTOccupancyMap& CNDTOccupancyMap::operator=(const CNDTOccupancyMap& other) {
 void CNDTOccupancyMap::shareLookups(const CNDTOccupancyMap& other) {
   std::shared_ptr<const ndtom::GaussianLookup> lookup;
   std::shared_ptr<const ndtom::NdtMclMap> mcl_map;
+  std::shared_ptr<const ndtom::PointKdTree> means_xy;
   int mcl_factor;
   {
     std::lock_guard<std::mutex> lock(other.m_lookup_mutex);
     lookup = other.m_lookup;
     mcl_map = other.m_mcl_map;
+    means_xy = other.m_means_xy;
     mcl_factor = other.m_mcl_factor;
   }
   std::lock_guard<std::mutex> lock(m_lookup_mutex);
   m_lookup = std::move(lookup);
   m_mcl_map = std::move(mcl_map);
+  m_means_xy = std::move(means_xy);
   m_mcl_factor = mcl_factor;
 }
 
@@ -176,29 +223,13 @@ void CNDTOccupancyMap::invalidateLookup() {
   std::lock_guard<std::mutex> lock(m_lookup_mutex);
   m_lookup.reset();
   m_mcl_map.reset();
+  m_means_xy.reset();
 }
 
 void CNDTOccupancyMap::applyInsertionOptions() {
-  ndtom::MapOptions wanted;
-  try {
-    wanted = insertionOptions.toMapOptions();
-  } catch (const std::exception& e) {
-    THROW_EXCEPTION(std::string("CNDTOccupancyMap::insertionOptions: ") + e.what());
-  }
+  const ndtom::MapOptions wanted = mapOptionsOf(insertionOptions);
   if (sameOptions(wanted, m_map.options())) return;
-  if (m_map.isEmpty()) {
-    m_map = ndtom::NdtMap(wanted);
-  } else {
-    if (wanted.resolution != m_map.options().resolution)
-      THROW_EXCEPTION(mrpt::format(
-          "CNDTOccupancyMap: resolution cannot change from %g m to %g m once the map holds "
-          "data; clear() the map first",
-          m_map.options().resolution, wanted.resolution));
-    // Same cells under new occupancy bounds or regularisation: merge into a fresh map.
-    ndtom::NdtMap rebuilt(wanted);
-    rebuilt.merge(m_map);
-    m_map = std::move(rebuilt);
-  }
+  m_map = mapUnder(m_map, wanted);
   invalidateLookup();
 }
 
@@ -263,9 +294,15 @@ void CNDTOccupancyMap::serializeTo(mrpt::serialization::CArchive& out) const {
   likelihoodOptions.writeToStream(out);
   renderOptions.writeToStream(out);
   out << genericMapParams;
+  // Options changed since the last insertion apply to the written map (as they would at the
+  // next insertion): the stored options and map always agree, which loading checks.
+  std::optional<ndtom::NdtMap> pending;
+  const ndtom::MapOptions wanted = mapOptionsOf(insertionOptions);
+  if (!sameOptions(wanted, m_map.options())) pending = mapUnder(m_map, wanted);
+  const ndtom::NdtMap& map = pending ? *pending : m_map;
   // Streamed: no copy of the whole encoding (a map's bytes can be several times its memory).
-  out << uint64_t(ndtom::encodedMapSize(m_map));
-  ndtom::encodeMap(m_map, [&](const uint8_t* data, size_t size) { out.WriteBuffer(data, size); });
+  out << uint64_t(ndtom::encodedMapSize(map));
+  ndtom::encodeMap(map, [&](const uint8_t* data, size_t size) { out.WriteBuffer(data, size); });
 }
 
 // Corrupt data throws a std::exception naming the problem and leaves the map as it was:
@@ -294,6 +331,13 @@ void CNDTOccupancyMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
       const std::vector<uint8_t> bytes = readMapBytes(in, size, budget);
       ndtom::NdtMap map =
           ndtom::decodeMap(bytes.data(), bytes.size(), "MRPT archive (CNDTOccupancyMap)", budget);
+      // An archive whose options disagree with its map would silently rebuild (or fail) at
+      // the next insertion: this program never writes one.
+      const std::string difference = optionDifference(insertion.toMapOptions(), map.options());
+      if (!difference.empty())
+        THROW_EXCEPTION(
+            "CNDTOccupancyMap: the archive's insertion options and its map data disagree: " +
+            difference + ", options vs map");
       insertionOptions = insertion;
       likelihoodOptions = likelihood;
       renderOptions = render;

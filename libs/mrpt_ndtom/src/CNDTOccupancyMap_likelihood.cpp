@@ -1,4 +1,5 @@
 // CNDTOccupancyMap: observation likelihood (particle filters) and matching (ICP).
+#include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
@@ -93,11 +94,29 @@ void CNDTOccupancyMap::determineMatching3D(const mrpt::maps::CMetricMap* otherMa
                                            mrpt::tfest::TMatchingPairList& correspondences,
                                            const mrpt::maps::TMatchingParams& params,
                                            mrpt::maps::TMatchingExtraResults& extraResults) const {
+  determineMatching(otherMap, otherMapPose, correspondences, params, extraResults, false);
+}
+
+void CNDTOccupancyMap::determineMatching2D(const mrpt::maps::CMetricMap* otherMap,
+                                           const mrpt::poses::CPose2D& otherMapPose,
+                                           mrpt::tfest::TMatchingPairList& correspondences,
+                                           const mrpt::maps::TMatchingParams& params,
+                                           mrpt::maps::TMatchingExtraResults& extraResults) const {
+  determineMatching(otherMap, mrpt::poses::CPose3D(otherMapPose), correspondences, params,
+                    extraResults, true);
+}
+
+void CNDTOccupancyMap::determineMatching(const mrpt::maps::CMetricMap* otherMap,
+                                         const mrpt::poses::CPose3D& otherMapPose,
+                                         mrpt::tfest::TMatchingPairList& correspondences,
+                                         const mrpt::maps::TMatchingParams& params,
+                                         mrpt::maps::TMatchingExtraResults& extraResults,
+                                         bool planar) const {
   correspondences.clear();
   extraResults = mrpt::maps::TMatchingExtraResults();
   const mrpt::maps::CPointsMap* other = asPointsMap(otherMap);
   if (!other)
-    THROW_EXCEPTION("CNDTOccupancyMap::determineMatching3D: otherMap must be a CPointsMap");
+    THROW_EXCEPTION("CNDTOccupancyMap::determineMatching: otherMap must be a CPointsMap");
 
   ndtom::CorrespondenceOptions co;
   co.max_distance = params.maxDistForCorrespondence;
@@ -106,6 +125,7 @@ void CNDTOccupancyMap::determineMatching3D(const mrpt::maps::CMetricMap* otherMa
                       params.angularDistPivotPoint.z);
   co.first = params.offset_other_map_points;
   co.stride = std::max<size_t>(1, params.decimation_other_map_points);
+  co.planar = planar;
   const auto result =
       ndtom::findCorrespondences(*gaussianLookup(), pointsOf(*other, otherMapPose), co);
 
@@ -126,13 +146,40 @@ void CNDTOccupancyMap::determineMatching3D(const mrpt::maps::CMetricMap* otherMa
     extraResults.correspondencesRatio = float(result.pairs.size()) / result.points_considered;
 }
 
+namespace {
+
+// The NDT map inside `map` (itself, or the first one of a CMultiMetricMap); null if none.
+const CNDTOccupancyMap* asNdtMap(const mrpt::maps::CMetricMap* map) {
+  if (const auto* ndt = dynamic_cast<const CNDTOccupancyMap*>(map)) return ndt;
+  if (const auto* multi = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(map))
+    for (const auto& m : multi->maps)
+      if (const auto* ndt = dynamic_cast<const CNDTOccupancyMap*>(m.get())) return ndt;
+  return nullptr;
+}
+
+// The means of the map's occupied cells with points, moved by `pose`: an NDT map's points.
+std::vector<Vector3d> occupiedMeans(const ndtom::NdtMap& map, const mrpt::poses::CPose3D& pose) {
+  const Eigen::Isometry3d t = toIsometry(pose);
+  std::vector<Vector3d> means;
+  map.forEachCellOrdered([&](const ndtom::CellView& c) {
+    if (c.stats && c.stats->n > 0 && ndtom::cellState(map, c) == ndtom::CellState::Occupied)
+      means.push_back(t * (map.geometry().cellCenter(c.index) + c.stats->mean));
+  });
+  return means;
+}
+
+}  // namespace
+
 float CNDTOccupancyMap::compute3DMatchingRatio(
     const mrpt::maps::CMetricMap* otherMap, const mrpt::poses::CPose3D& otherMapPose,
     const mrpt::maps::TMatchingRatioParams& params) const {
-  const mrpt::maps::CPointsMap* other = asPointsMap(otherMap);
-  if (!other || other->size() == 0) return 0.0f;
-  return float(ndtom::matchingRatio(*gaussianLookup(), pointsOf(*other, otherMapPose),
-                                    params.maxMahaDistForCorr));
+  std::vector<Vector3d> points;
+  if (const CNDTOccupancyMap* ndt = asNdtMap(otherMap))
+    points = occupiedMeans(ndt->ndtMap(), otherMapPose);
+  else if (const mrpt::maps::CPointsMap* other = asPointsMap(otherMap))
+    points = pointsOf(*other, otherMapPose);
+  if (points.empty()) return 0.0f;
+  return float(ndtom::matchingRatio(*gaussianLookup(), points, params.maxMahaDistForCorr));
 }
 
 }  // namespace mrpt_ndtom

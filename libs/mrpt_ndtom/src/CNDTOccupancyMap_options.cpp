@@ -100,6 +100,11 @@ void CNDTOccupancyMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfig
                                "MB the map and a scan may take; larger scans are refused");
 }
 
+void CNDTOccupancyMap::TInsertionOptions::dumpToTextStream(std::ostream& out) const {
+  out << "\n----------- [CNDTOccupancyMap::TInsertionOptions] ------------\n\n";
+  CLoadableOptions::dumpToTextStream(out);
+}
+
 ndtom::MapOptions CNDTOccupancyMap::TInsertionOptions::toMapOptions() const {
   if (decimation < 1 || decimation_3d_range < 1)
     throw std::invalid_argument("decimation: must be >= 1");
@@ -216,6 +221,11 @@ void CNDTOccupancyMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfi
                                "NdtMcl: map coarsening scored against, [1, 64] (1: the map)");
   MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_max_gaussians,
                                "NdtMcl: scan Gaussians kept (most points), in [1, 100000]");
+}
+
+void CNDTOccupancyMap::TLikelihoodOptions::dumpToTextStream(std::ostream& out) const {
+  out << "\n----------- [CNDTOccupancyMap::TLikelihoodOptions] ------------\n\n";
+  CLoadableOptions::dumpToTextStream(out);
 }
 
 void CNDTOccupancyMap::TLikelihoodOptions::validate() const {

@@ -10,15 +10,12 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "archive_checks.h"
 
 namespace mrpt_ndtom {
 namespace {
 
 using Eigen::Vector3d;
 using UnitTriangle = std::array<Vector3d, 3>;
-
-constexpr uint32_t kMaxSubdivisions = 4;  // 2048 triangles per ellipsoid
 
 // Octahedron refined `levels` times by splitting each triangle in four and pushing the new
 // vertices onto the sphere.
@@ -121,29 +118,11 @@ mrpt::opengl::CPointCloudColoured::Ptr freeCells(const ndtom::NdtMap& map,
   return cloud;
 }
 
-bool isColormap(int32_t value) {
-  return value >= int32_t(mrpt::img::cmNONE) && value <= int32_t(mrpt::img::cmHOT);
-}
 
 }  // namespace
 
 size_t trianglesPerEllipsoid(uint32_t subdivisions) {
   return size_t(8) << (2 * subdivisions);
-}
-
-void TRenderOptions::validate() const {
-  std::ostringstream msg;
-  if (!(std::isfinite(quantiles) && quantiles > 0))
-    msg << "quantiles = " << quantiles << ": must be finite and > 0";
-  else if (subdivisions > kMaxSubdivisions)
-    msg << "subdivisions = " << subdivisions << ": must be <= " << kMaxSubdivisions;
-  else if (!(free_cell_point_size > 0))
-    msg << "free_cell_point_size = " << free_cell_point_size << ": must be > 0";
-  else if (std::isnan(min_logodds))
-    msg << "min_logodds: must not be NaN";
-  else if (!isColormap(int32_t(colormap)))
-    msg << "colormap = " << int32_t(colormap) << ": unknown colormap";
-  if (!msg.str().empty()) throw std::invalid_argument(msg.str());
 }
 
 void buildNdtVisualization(const ndtom::NdtMap& map, const TRenderOptions& o,
@@ -168,51 +147,6 @@ void buildNdtVisualization(const ndtom::NdtMap& map, const TRenderOptions& o,
     out.insert(mesh);
   }
   if (o.show_free_cells) out.insert(freeCells(map, o));
-}
-
-void TRenderOptions::writeToStream(mrpt::serialization::CArchive& out) const {
-  const uint8_t version = 0;
-  out << version << quantiles << subdivisions << max_ellipsoids << min_logodds << color_min_z
-      << color_max_z << int32_t(colormap) << show_free_cells << max_free_cells
-      << free_cell_point_size;
-}
-
-// Reads into a copy and validates it: corrupt data throws (naming the option) and leaves the
-// options as they were.
-void TRenderOptions::readFromStream(mrpt::serialization::CArchive& in) {
-  uint8_t version;
-  in >> version;
-  TRenderOptions read;
-  switch (version) {
-    case 0: {
-      int32_t cmap;
-      in >> read.quantiles >> read.subdivisions >> read.max_ellipsoids >> read.min_logodds >>
-          read.color_min_z >> read.color_max_z >> cmap;
-      read.show_free_cells = detail::readBool(in, "renderOptions.show_free_cells");
-      in >> read.max_free_cells >> read.free_cell_point_size;
-      // Not every int is a TColormap (an unscoped enum without a fixed type): check first.
-      if (!isColormap(cmap))
-        THROW_EXCEPTION(mrpt::format("renderOptions.colormap = %d: unknown colormap", cmap));
-      read.colormap = mrpt::img::TColormap(cmap);
-    } break;
-    default:
-      MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
-  }
-  try {
-    read.validate();
-  } catch (const std::invalid_argument& e) {
-    THROW_EXCEPTION(std::string("renderOptions: ") + e.what());
-  }
-  *this = read;
-}
-
-bool TRenderOptions::operator==(const TRenderOptions& o) const {
-  auto same = [](double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); };
-  return quantiles == o.quantiles && subdivisions == o.subdivisions &&
-         max_ellipsoids == o.max_ellipsoids && min_logodds == o.min_logodds &&
-         same(color_min_z, o.color_min_z) && same(color_max_z, o.color_max_z) &&
-         colormap == o.colormap && show_free_cells == o.show_free_cells &&
-         max_free_cells == o.max_free_cells && free_cell_point_size == o.free_cell_point_size;
 }
 
 }  // namespace mrpt_ndtom

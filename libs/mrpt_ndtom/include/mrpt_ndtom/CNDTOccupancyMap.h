@@ -9,6 +9,7 @@
 //   ndtOccupancyMap_count = 1
 //   [MetricMap_ndtOccupancyMap_00_insertOpts]     ; TInsertionOptions
 //   [MetricMap_ndtOccupancyMap_00_likelihoodOpts] ; TLikelihoodOptions
+//   [MetricMap_ndtOccupancyMap_00_renderOpts]     ; TRenderOptions
 //   [MetricMap_ndtOccupancyMap_00_creationOpts]   ; enableSaveAs3DObject, ... (all maps)
 //
 // The class is registered when its shared library is loaded (MRPT's plugin flags, LD_PRELOAD,
@@ -21,6 +22,8 @@
 
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/maps/CMetricMap.h>
+#include <mrpt/math/TBoundingBox.h>
+#include <mrpt/opengl/COctoMapVoxels.h>
 #include <mrpt/system/COutputLogger.h>
 #include <mrpt/typemeta/TEnumType.h>
 
@@ -32,6 +35,7 @@
 #include "mrpt_ndtom/ndt_visualization.h"
 #include "mrpt_ndtom/observation_points.h"
 #include "ndtom/gaussian_lookup.h"
+#include "ndtom/map_queries.h"
 #include "ndtom/ndt_map.h"
 #include "ndtom/ndt_mcl.h"
 
@@ -59,6 +63,8 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                           const std::string& section) const override;
+    /// The options under a header naming them, as MRPT's own options print.
+    void dumpToTextStream(std::ostream& out) const override;
 
     double resolution{0.2};        ///< Cell edge (Default: 0.2 m)
     bool occupancy_enabled{true};  ///< false: Recursive NDT, no ray tracing (Default: true)
@@ -109,6 +115,8 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
                             const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                           const std::string& section) const override;
+    /// The options under a header naming them, as MRPT's own options print.
+    void dumpToTextStream(std::ostream& out) const override;
 
     /// Points | NdtMcl (Default: Points)
     TLikelihoodMethod likelihood_method{TLikelihoodMethod::Points};
@@ -140,7 +148,7 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
   };
   TLikelihoodOptions likelihoodOptions;
 
-  /// How getVisualizationInto() draws the map.
+  /// How getVisualizationInto() and getAsOctoMapVoxels() draw the map.
   TRenderOptions renderOptions;
 
   // --- The NDT-OM itself ---------------------------------------------------------------
@@ -171,6 +179,30 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
   /// nullptr for an unsupported observation. Kept while particles are scored with it.
   std::shared_ptr<const ndtom::ScanNdt> scanNdt(const mrpt::obs::CObservation& obs) const;
 
+  // --- Queries (named as COctoMap's) -----------------------------------------------------
+
+  /// Occupancy probability of the cell at (x, y, z); false where nothing is known.
+  bool getPointOccupancy(float x, float y, float z, double& prob_occupancy) const;
+  /// Occupied, free or unknown, by the one rule of ndtom::cellState().
+  ndtom::CellState cellState(const mrpt::math::TPoint3D& point) const;
+  /// Casts a ray from `origin` along `direction` (any non-zero length) and sets `end` to the
+  /// centre of the first occupied cell it enters (the origin's own cell included), as
+  /// COctoMap::castRay does. With ignoreUnknownCells false an unknown cell ends the search
+  /// with no hit. maxRange <= 0: up to the far side of the map's bounding box. Returns
+  /// whether a cell was hit; throws for a zero or non-finite ray. The exact entry point and
+  /// distance: ndtom::castRay(ndtMap(), ...).
+  bool castRay(const mrpt::math::TPoint3D& origin, const mrpt::math::TPoint3D& direction,
+               mrpt::math::TPoint3D& end, bool ignoreUnknownCells = false,
+               double maxRange = -1.0) const;
+  /// The box of all known cells (free and occupied, cell faces included); all zeros for an
+  /// empty map. (CMetricMap has no virtual boundingBox() in MRPT 2.5.)
+  mrpt::math::TBoundingBox boundingBox() const;
+  /// Fills `voxels` with the known cells, as COccupancyGridMap3D does: the occupied set
+  /// (VOXEL_SET_OCCUPIED) and the free set (VOXEL_SET_FREESPACE), per renderOptions'
+  /// generate_/visible_ flags, coloured by `voxels`' visualization mode and colour (by
+  /// occupancy, height, ...). Unknown cells are left out.
+  void getAsOctoMapVoxels(mrpt::opengl::COctoMapVoxels& voxels) const;
+
   // --- CMetricMap ------------------------------------------------------------------------
 
   bool isEmpty() const override;
@@ -191,11 +223,24 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
                            mrpt::tfest::TMatchingPairList& correspondences,
                            const mrpt::maps::TMatchingParams& params,
                            mrpt::maps::TMatchingExtraResults& extraResults) const override;
+  /// For MRPT's 2D ICP (CICP::Align with 2D poses): as determineMatching3D, but in the x-y
+  /// plane: each point is paired with its foot on the x-y marginal of the best Gaussian (a
+  /// wall's line), at the point's own height.
+  void determineMatching2D(const mrpt::maps::CMetricMap* otherMap,
+                           const mrpt::poses::CPose2D& otherMapPose,
+                           mrpt::tfest::TMatchingPairList& correspondences,
+                           const mrpt::maps::TMatchingParams& params,
+                           mrpt::maps::TMatchingExtraResults& extraResults) const override;
   /// Fraction of the other map's points within Mahalanobis distance maxMahaDistForCorr of a
-  /// Gaussian; 0 if the other map has no points.
+  /// Gaussian. The other map may be a points map, another CNDTOccupancyMap (its occupied
+  /// cells' means are the points), or a CMultiMetricMap holding either (an NDT map first),
+  /// as MRPT's map-partition hands it. 0 if it has no points.
   float compute3DMatchingRatio(const mrpt::maps::CMetricMap* otherMap,
                                const mrpt::poses::CPose3D& otherMapPose,
                                const mrpt::maps::TMatchingRatioParams& params) const override;
+  /// Squared distance in the x-y plane from (x0, y0) to the nearest occupied Gaussian's
+  /// mean; infinity for a map without Gaussians.
+  float squareDistanceToClosestCorrespondence(float x0, float y0) const override;
 
  private:
   void internal_clear() override;
@@ -206,6 +251,11 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
       const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const override;
   bool internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const override;
 
+  void determineMatching(const mrpt::maps::CMetricMap* otherMap,
+                         const mrpt::poses::CPose3D& otherMapPose,
+                         mrpt::tfest::TMatchingPairList& correspondences,
+                         const mrpt::maps::TMatchingParams& params,
+                         mrpt::maps::TMatchingExtraResults& extraResults, bool planar) const;
   double pointsLikelihood(const mrpt::obs::CObservation& obs,
                           const mrpt::poses::CPose3D& takenFrom) const;
   double ndtMclLikelihood(const mrpt::obs::CObservation& obs,
@@ -222,12 +272,15 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
   mutable std::shared_ptr<const ndtom::GaussianLookup> m_lookup;  ///< null when stale
   mutable std::shared_ptr<const ndtom::NdtMclMap> m_mcl_map;      ///< null when stale
   mutable int m_mcl_factor = 0;                                   ///< m_mcl_map's coarsening
+  /// The Gaussians' means in the x-y plane, for squareDistanceToClosestCorrespondence.
+  mutable std::shared_ptr<const ndtom::PointKdTree> m_means_xy;   ///< null when stale
   /// Each map object has its own (a copy starts with an empty one); never null.
   std::shared_ptr<detail::ScanNdtCache> m_scan_ndts;
 
   MAP_DEFINITION_START(CNDTOccupancyMap)
   mrpt_ndtom::CNDTOccupancyMap::TInsertionOptions insertionOpts;
   mrpt_ndtom::CNDTOccupancyMap::TLikelihoodOptions likelihoodOpts;
+  mrpt_ndtom::TRenderOptions renderOpts;
   MAP_DEFINITION_END(CNDTOccupancyMap)
 };
 

@@ -30,6 +30,11 @@ struct CorrespondenceOptions {
   /// Use points first, first + stride, ... (Default: 0, 1: all points).
   size_t first = 0;
   size_t stride = 1;
+  /// In the x-y plane, for 2D ICP: the Gaussians' x-y marginals choose and project (the
+  /// foot of p on a wall's line), and the target keeps p's z. In 3D, the flat Gaussians of a
+  /// map of 2D scans have their thinnest axis in z, so projecting moved points only a few
+  /// percent of the way to a wall (Default: false).
+  bool planar = false;
 };
 
 /// Throws std::invalid_argument naming the bad option.
@@ -52,6 +57,11 @@ struct CorrespondenceResult {
 inline Eigen::Vector3d projectOnto(const PreparedGaussian& g, const Eigen::Vector3d& point) {
   return point - g.projection * (point - g.mean);
 }
+
+/// The same in the x-y plane with the marginal covariance Σxy: t_xy = p_xy − λmin(Σxy)·Σxy⁻¹·
+/// (p − μ)_xy, t_z = p_z; `squared_mahalanobis` gets (p − μ)_xyᵀ Σxy⁻¹ (p − μ)_xy.
+Eigen::Vector3d projectOntoInPlane(const PreparedGaussian& g, const Eigen::Vector3d& point,
+                                   double& squared_mahalanobis);
 
 /// Correspondences of world-frame points. Throws on bad options.
 CorrespondenceResult findCorrespondences(const GaussianLookup& lookup,
