@@ -338,3 +338,87 @@ TEST(IniOptions, AsStringDescribesTheMap) {
   EXPECT_NE(text.find("resolution 0.25 m"), std::string::npos) << text;
   EXPECT_NE(text.find("1 Gaussians"), std::string::npos) << text;
 }
+
+TEST(IniOptions, RenderOptionsFromTheirSection) {
+  const auto multi = multiMapFrom(R"ini(
+[M]
+ndtOccupancyMap_count = 1
+[M_ndtOccupancyMap_00_renderOpts]
+quantiles = 2.5
+subdivisions = 3
+max_ellipsoids = 1234
+min_logodds = 0.5
+color_min_z = -1
+color_max_z = 4
+colormap = cmHOT
+show_free_cells = true
+max_free_cells = 99
+free_cell_point_size = 3.5
+generate_occupied_voxels = false
+visible_occupied_voxels = false
+generate_free_voxels = false
+visible_free_voxels = false
+)ini",
+                                  "M");
+  const auto map = multi.mapByClass<CNDTOccupancyMap>();
+  ASSERT_TRUE(map);
+  const mrpt_ndtom::TRenderOptions& r = map->renderOptions;
+  EXPECT_EQ(r.quantiles, 2.5);
+  EXPECT_EQ(r.subdivisions, 3u);
+  EXPECT_EQ(r.max_ellipsoids, 1234u);
+  EXPECT_EQ(r.min_logodds, 0.5);
+  EXPECT_EQ(r.color_min_z, -1.0);
+  EXPECT_EQ(r.color_max_z, 4.0);
+  EXPECT_EQ(r.colormap, mrpt::img::cmHOT);
+  EXPECT_TRUE(r.show_free_cells);
+  EXPECT_EQ(r.max_free_cells, 99u);
+  EXPECT_EQ(r.free_cell_point_size, 3.5f);
+  EXPECT_FALSE(r.generate_occupied_voxels || r.visible_occupied_voxels ||
+               r.generate_free_voxels || r.visible_free_voxels);
+
+  // Saved and read back through text: the same options.
+  mrpt::config::CConfigFileMemory saved;
+  r.saveToConfigFile(saved, "r");
+  mrpt_ndtom::TRenderOptions again;
+  again.loadFromConfigFile(mrpt::config::CConfigFileMemory(saved.getContent()), "r");
+  EXPECT_TRUE(again == r) << saved.getContent();
+
+  // Bad values name the section and the option, and change nothing.
+  for (const auto& [body, option] :
+       std::vector<std::pair<std::string, std::string>>{{"subdivisions = 9", "subdivisions"},
+                                                        {"quantiles = -1", "quantiles"},
+                                                        {"colormap = cmRAINBOW", "colormap"},
+                                                        {"max_ellipsoids = -3", "max_ellipsoids"},
+                                                        {"free_cell_point_size = 0", "free_cell"}}) {
+    mrpt_ndtom::TRenderOptions o;
+    const std::string msg = errorOf(
+        [&] { o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s"); });
+    EXPECT_NE(msg.find(option), std::string::npos) << body << " -> " << msg;
+    EXPECT_TRUE(o == mrpt_ndtom::TRenderOptions()) << body;
+  }
+}
+
+TEST(IniOptions, DumpPutsEachOptionGroupUnderItsHeader) {
+  mrpt::maps::TSetOfMetricMapInitializers inits;
+  inits.loadFromConfigFile(mrpt::config::CConfigFileMemory(kIni), "MetricMap");
+  std::ostringstream out;
+  inits.dumpToTextStream(out);
+  const std::string text = out.str();
+  const size_t insertion = text.find("[CNDTOccupancyMap::TInsertionOptions]");
+  const size_t likelihood = text.find("[CNDTOccupancyMap::TLikelihoodOptions]");
+  const size_t render = text.find("[mrpt_ndtom::TRenderOptions]");
+  ASSERT_NE(insertion, std::string::npos) << text;
+  ASSERT_NE(likelihood, std::string::npos) << text;
+  ASSERT_NE(render, std::string::npos) << text;
+  EXPECT_LT(insertion, likelihood);
+  EXPECT_LT(likelihood, render);
+  // decimation and the ranges appear once in each of the first two groups, under its header.
+  for (const char* key : {"decimation ", "min_range", "max_range"}) {
+    const size_t first = text.find(key, insertion), second = text.find(key, likelihood);
+    EXPECT_LT(first, likelihood) << key;
+    EXPECT_LT(second, render) << key;
+  }
+  EXPECT_NE(text.find("ray_mode", insertion), std::string::npos);
+  EXPECT_LT(text.find("ray_mode", insertion), likelihood);
+  EXPECT_GT(text.find("quantiles"), render);
+}

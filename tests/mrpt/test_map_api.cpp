@@ -327,8 +327,9 @@ TEST(MapApi, PointOccupancyAndCastRayFollowTheCore) {
     EXPECT_NEAR(end.x, centre.x(), 1e-9);
     EXPECT_EQ(map.cellState(end), ndtom::CellState::Occupied);
     mrpt::math::TPoint3D careful_end;
-    if (map.castRay(origin, direction, careful_end, false, 30.0))
+    if (map.castRay(origin, direction, careful_end, false, 30.0)) {
       EXPECT_EQ(careful_end, end) << "a hit through known cells is the same hit";
+    }
   }
   EXPECT_GT(hits, 30u);  // the 180-degree scanner saw walls in most directions ahead
   EXPECT_THROW(map.castRay(origin, {0, 0, 0}, *std::make_unique<mrpt::math::TPoint3D>()),

@@ -7,6 +7,7 @@
 //    real lidar scans (written by ndtom-rawlog-from-pcd), stays near the scans' reference poses;
 //  - rbpf-slam (LD_PRELOAD) on a cut of the Málaga loop: runs, writes its NDT map, and its path
 //    stays near MRPT's reference trajectory of that log;
+//  - map-partition (LD_PRELOAD) with an NDT-only config: about the partitions of a points map;
 //  - rawlog-edit -p, RawLogViewer -l and SceneViewer3D -l (under Xvfb) load the plugin.
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFile.h>
@@ -295,6 +296,44 @@ TEST(MrptPrograms, RbpfSlamMapsWithTheNdtMapInItsParticles) {
   EXPECT_GE(compared, 10u) << "reference frames in the cut";
   EXPECT_LT(worst, 1.0) << "metres from the reference trajectory";
   std::cout << "[ rbpf     ] " << compared << " poses compared, worst " << worst << " m\n";
+}
+
+// map-partition compares keyframes with compute3DMatchingRatio between their metric maps:
+// with an NDT map alone (CMultiMetricMap against CMultiMetricMap) it must find about the
+// partitions it finds with MRPT's default points map (measured: 3 against 4), not one per
+// keyframe.
+int partitionsOf(const std::string& log) {
+  std::smatch m;
+  return std::regex_search(log, m, std::regex(R"(Map nodes:(\d+) --- (\d+) partitions)"))
+             ? std::stoi(m[2])
+             : -1;
+}
+
+TEST(MrptPrograms, MapPartitionWithTheNdtMapAloneFindsThePointsMapsPartitions) {
+  const std::string simplemap = kDatasets + "/malaga-cs-fac-building.simplemap.gz";
+  WorkDir points, ndt;
+  ASSERT_EQ(run("timeout 300 " + kRuntimeEnv + "map-partition '" + simplemap + "'", points.path,
+                points.path / "log.txt"),
+            0)
+      << readFile(points.path / "log.txt");
+  // map-partition reads [PARAMS] and the maps of [PARAMS.metricmap] from this file.
+  std::ofstream(ndt.path / "MAP-PARTITION_CONFIG.ini") << R"ini([PARAMS]
+[PARAMS.metricmap]
+ndtOccupancyMap_count = 1
+[PARAMS.metricmap_ndtOccupancyMap_00_insertOpts]
+resolution = 0.2
+)ini";
+  ASSERT_EQ(run("timeout 300 " + preload() + "map-partition '" + simplemap + "'", ndt.path,
+                ndt.path / "log.txt"),
+            0)
+      << readFile(ndt.path / "log.txt");
+  const std::string ndt_log = readFile(ndt.path / "log.txt");
+  EXPECT_NE(ndt_log.find("Loading params from 'MAP-PARTITION_CONFIG.ini'"), std::string::npos);
+  const int with_points = partitionsOf(readFile(points.path / "log.txt"));
+  const int with_ndt = partitionsOf(ndt_log);
+  std::cout << "[ partition] points map: " << with_points << ", NDT map: " << with_ndt << "\n";
+  ASSERT_GT(with_points, 1) << readFile(points.path / "log.txt");
+  EXPECT_LE(std::abs(with_ndt - with_points), 1) << ndt_log;
 }
 
 TEST(MrptPrograms, RawlogEditLoadsThePlugin) {

@@ -72,6 +72,9 @@ constexpr size_t kInsertionOptionsV1 = kThreadsInInsertionOptions + 4;
 // Likelihood options version 1 is version 0 with the method and the three NdtMcl options (four
 // int32) appended.
 constexpr size_t kMethodInLikelihoodOptions = 42;
+constexpr size_t kLikelihoodOptionsV1 = kMethodInLikelihoodOptions + 16;
+// Render options version 1 is version 0 with the four voxel-set flags appended.
+constexpr size_t kVoxelFlagsInRenderOptions = 54;
 
 template <class T>
 std::shared_ptr<T> roundTrip(const T& object) {
@@ -384,12 +387,17 @@ TEST(Serialization, ArchiveOfThePreviousVersionLoadsWithOneThread) {
   // The stored map as is, then MRPT's one-byte end flag.
   EXPECT_EQ(offsetOf(old, map_data) + map_data.size() + 1, old.size());
 
-  // Written again both option blocks are version 1, and otherwise the same bytes.
+  // Written again the three option blocks are version 1, and otherwise the same bytes.
   std::vector<uint8_t> again = archiveBytes(map);
-  ASSERT_EQ(again.size(), old.size() + 4 + 16);
+  ASSERT_EQ(again.size(), old.size() + 4 + 16 + 4);
   const size_t likelihood = insertion + kInsertionOptionsV1;
+  const size_t render = likelihood + kLikelihoodOptionsV1;
   EXPECT_EQ(again[insertion], 1);
   EXPECT_EQ(again[likelihood], 1);
+  EXPECT_EQ(again[render], 1);
+  again[render] = 0;
+  again.erase(again.begin() + long(render + kVoxelFlagsInRenderOptions),
+              again.begin() + long(render + kVoxelFlagsInRenderOptions + 4));
   again[likelihood] = 0;
   again.erase(again.begin() + long(likelihood + kMethodInLikelihoodOptions),
               again.begin() + long(likelihood + kMethodInLikelihoodOptions + 16));
@@ -433,4 +441,56 @@ TEST(Serialization, HandMadeVersion0ArchiveLoadsWithOneThread) {
   EXPECT_EQ(map.insertionOptions.threads, 1);
   map.insertionOptions.threads = 3;
   expectSameMaps(*a.map, map);
+}
+
+TEST(Serialization, ArchiveWhoseOptionsDisagreeWithItsMapIsRefused) {
+  // The insertion options block: version byte, resolution (double), occupancy flag (byte),
+  // p_hit (double). sampleMap() is 0.3 m with p_hit 0.65; its map data says the same.
+  const Archive a;
+  const size_t resolution = a.insertion + 1, p_hit = a.insertion + 1 + 8 + 1;
+  double stored = 0;
+  std::memcpy(&stored, a.bytes.data() + p_hit, 8);
+  ASSERT_EQ(stored, 0.65);
+  const std::string by_p_hit = a.readWith(p_hit, 0.7);
+  EXPECT_NE(by_p_hit.find("p_hit (0.69999999999999996 vs 0.65000000000000002)"), std::string::npos)
+      << by_p_hit;
+  const std::string by_resolution = a.readWith(resolution, 0.25);
+  EXPECT_NE(by_resolution.find("resolution (0.25 vs 0.29999999999999999)"), std::string::npos)
+      << by_resolution;
+  // The map read into is left as it was.
+  const auto before = sampleMap();
+  auto target = sampleMap();
+  auto damaged = a.bytes;
+  const double other = 0.7;
+  std::memcpy(damaged.data() + p_hit, &other, 8);
+  EXPECT_NE(readInto(*target, damaged), "");
+  expectSameMaps(*before, *target);
+}
+
+TEST(Serialization, OptionsChangedSinceTheLastInsertionApplyToTheWrittenMap) {
+  const auto map = sampleMap();
+  map->insertionOptions.p_miss = 0.45;
+  map->insertionOptions.logodds_min = -1.0;
+  const auto copy = roundTrip(*map);
+  ASSERT_TRUE(copy);
+  EXPECT_EQ(copy->insertionOptions.p_miss, 0.45);
+  // As the next insertion would: the same cells merged into a map with the new bounds.
+  ndtom::NdtMap expected(map->insertionOptions.toMapOptions());
+  expected.merge(map->ndtMap());
+  EXPECT_EQ(ndtom::encodeMap(copy->ndtMap()), ndtom::encodeMap(expected));
+  float lowest = 0;
+  copy->ndtMap().forEachCell([&](const ndtom::CellView& c) { lowest = std::min(lowest, c.logodds); });
+  EXPECT_GE(lowest, -1.0f);
+  EXPECT_EQ(copy->ndtMap().options().occupancy.p_miss, 0.45);
+
+  // A new resolution cannot apply to a map with data: writing says so.
+  map->insertionOptions.resolution = 0.5;
+  mrpt::io::CMemoryStream buffer;
+  try {
+    mrpt::serialization::archiveFrom(buffer) << *map;
+    ADD_FAILURE() << "a pending resolution change was written";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("resolution cannot change"), std::string::npos)
+        << e.what();
+  }
 }
