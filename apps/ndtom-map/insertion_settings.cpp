@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <thread>
 
 #include "input_format.h"
 #include "ndtom_apps/option_values.h"
@@ -75,7 +76,8 @@ const std::vector<KeySpec>& keySpecs() {
       {{"min_eigen_ratio", "covariance eigenvalue floor / largest (0.01)"},
        real(&O::min_eigen_ratio)},
       {{"min_eigen_abs", "covariance eigenvalue floor [m^2] (1e-6)"}, real(&O::min_eigen_abs)},
-      {{"threads", "threads tracing free rays; same map, faster (1)"},
+      {{"threads", "threads inserting a scan; the same map for any count (the\n" +
+                       std::string(28, ' ') + "machine's cores)"},
        [](O& o, const std::string& option, const std::string& text) {
          o.threads = int32_t(parseInteger(option, text, 1, 256));
        }},
@@ -121,8 +123,17 @@ void checkSection(const mrpt::config::CConfigFileBase& file, const std::string& 
   }
 }
 
+// The plugin's defaults, but as many threads as the machine has cores: the map is the same
+// for any count, so a program has no reason to leave cores idle.
+InsertionOptions programDefaults() {
+  InsertionOptions o;
+  o.threads = std::clamp(int32_t(std::thread::hardware_concurrency()), int32_t(1),
+                         int32_t(ndtom::InsertOptions::kMaxThreads));
+  return o;
+}
+
 InsertionOptions loadFile(const InsertionSettings& s) {
-  InsertionOptions options;
+  InsertionOptions options = programDefaults();
   requireRegularFile("--config", s.config_file);  // MRPT's reader would wait on a FIFO
   if (!std::ifstream(s.config_file).good())
     throw UsageError("--config " + s.config_file + ": cannot open the file");
@@ -152,7 +163,7 @@ bool isInsertionKey(const std::string& name) {
 }
 
 InsertionOptions resolveInsertionOptions(const InsertionSettings& settings) {
-  InsertionOptions options = settings.config_file.empty() ? InsertionOptions() : loadFile(settings);
+  InsertionOptions options = settings.config_file.empty() ? programDefaults() : loadFile(settings);
   for (const auto& [key, text] : settings.overrides) {
     const KeySpec* spec = findSpec(key);
     std::string option = "--" + key;

@@ -89,18 +89,26 @@ int run(const MapperOptions& o) {
                progress);
   requireSomePoints(mapping, o.input);
   const size_t peak_rss_after_mapping = ndtom::apps::peakRssBytes();
+  StageTimes times;
+  double passes_s = 0, insert_s = 0;
+  for (const PassResult& p : mapping.passes) passes_s += p.seconds;
+  for (const double s : mapping.insert_seconds) insert_s += s;
+  times.add("read", passes_s - insert_s);  // reading, decoding and moving the scans
+  times.add("insert", insert_s);
 
   // Write the outputs (under temporary names until everything has succeeded).
   mrpt_ndtom::CNDTOccupancyMap map(insertion.resolution);
   map.insertionOptions = insertion;
-  map.renderOptions = renderOptionsFor(heightScaleOf(mapping.map), o.max_ellipsoids);
+  map.renderOptions = renderOptionsFor(mapping.map, heightScaleOf(mapping.map), o.max_ellipsoids,
+                                       o.ellipsoid_detail);
   map.setNdtMap(std::move(mapping.map));
   const OutputSettings output_settings{o.coarse, o.pictures, o.image_width, o.max_ellipsoids};
-  const auto coarse = writeMapOutputs(map, mapping.sensor_path, output_settings, out);
+  const auto coarse = writeMapOutputs(map, mapping.sensor_path, output_settings, out, times);
 
   // The summary, then every file into place at once.
   RunSummary summary = summarize(o, settings, map, mapping, coarse, start);
   summary.peak_rss_after_mapping = peak_rss_after_mapping;
+  summary.stages = &times;
   summary.files = out.files();
   summary.files.push_back({"summary", o.prefix + ".summary.json"});
   out.writeBytes("summary", ".summary.json", summaryJson(summary));

@@ -43,12 +43,10 @@ void writeMrptMap(const mrpt_ndtom::CNDTOccupancyMap& map, OutputFiles& out) {
   });
 }
 
-void writeScene(const mrpt_ndtom::CNDTOccupancyMap& map,
+void writeScene(const mrpt::opengl::CSetOfObjects::Ptr& gaussians,
                 const std::vector<Eigen::Vector3d>& sensor_path, OutputFiles& out) {
   mrpt::opengl::COpenGLScene scene;
-  auto objects = mrpt::opengl::CSetOfObjects::Create();
-  mrpt_ndtom::buildNdtVisualization(map.ndtMap(), map.renderOptions, *objects);
-  scene.insert(objects);
+  scene.insert(gaussians);
   auto path = mrpt::opengl::CSetOfLines::Create();
   path->setName("sensor_path");
   path->setColor_u8(0, 0, 0);
@@ -71,7 +69,8 @@ void writeScene(const mrpt_ndtom::CNDTOccupancyMap& map,
 
 std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap& map,
                                              const std::vector<Eigen::Vector3d>& sensor_path,
-                                             const OutputSettings& settings, OutputFiles& out) {
+                                             const OutputSettings& settings, OutputFiles& out,
+                                             StageTimes& times) {
   const ndtom::NdtMap& ndt = map.ndtMap();
   // Maps are streamed: a map's bytes can be several times its memory.
   const auto encode = [](const ndtom::NdtMap& m) {
@@ -79,22 +78,33 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
       ndtom::encodeMap(m, [&](const uint8_t* data, size_t size) { sink(data, size); });
     };
   };
-  out.write("map", ".ndtom", encode(ndt));
-  writeMrptMap(map, out);
-  writeScene(map, sensor_path, out);
+  times.time("map", [&] { out.write("map", ".ndtom", encode(ndt)); });
+  times.time("mrpt_map", [&] { writeMrptMap(map, out); });
+  // The ellipsoids once, for the scene and the picture (a mesh of ~100 bytes a triangle).
+  const auto gaussians = mrpt::opengl::CSetOfObjects::Create();
+  times.time("ellipsoids",
+             [&] { mrpt_ndtom::buildNdtVisualization(ndt, map.renderOptions, *gaussians); });
+  times.time("scene", [&] { writeScene(gaussians, sensor_path, out); });
   if (settings.pictures) {
     const HeightScale scale{map.renderOptions.color_min_z, map.renderOptions.color_max_z};
-    out.writeBytes("top_view", ".top.png",
-                   pngBytes(renderTopView(ndt, scale, sensor_path, settings.image_width)));
-    out.writeBytes(
-        "view_3d", ".3d.png",
-        pngBytes(renderObliqueView(ndt, map.renderOptions, sensor_path, settings.image_width)));
+    times.time("top_view", [&] {
+      out.writeBytes("top_view", ".top.png",
+                     pngBytes(renderTopView(ndt, scale, sensor_path, settings.image_width)));
+    });
+    times.time("view_3d", [&] {
+      out.writeBytes("view_3d", ".3d.png",
+                     pngBytes(renderObliqueView(ndt, gaussians, map.renderOptions, sensor_path,
+                                                settings.image_width)));
+    });
   }
   if (settings.coarse < 2) return std::nullopt;
-  const ndtom::NdtMap coarse = ndt.coarsened(settings.coarse);
-  out.write("coarse_map", ".coarse" + std::to_string(settings.coarse) + ".ndtom", encode(coarse));
-  return CoarseMapInfo{settings.coarse, coarse.options().resolution, coarse.numCells(),
-                       coarse.numGaussians()};
+  return times.time("coarse_map", [&] {
+    const ndtom::NdtMap coarse = ndt.coarsened(settings.coarse);
+    out.write("coarse_map", ".coarse" + std::to_string(settings.coarse) + ".ndtom",
+              encode(coarse));
+    return std::optional<CoarseMapInfo>(CoarseMapInfo{
+        settings.coarse, coarse.options().resolution, coarse.numCells(), coarse.numGaussians()});
+  });
 }
 
 }  // namespace ndtom::mapper

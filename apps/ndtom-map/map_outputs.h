@@ -7,6 +7,7 @@
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 #include "output_files.h"
 #include "run_summary.h"
+#include "stage_times.h"
 
 namespace ndtom::mapper {
 
@@ -23,9 +24,10 @@ struct OutputSettings {
 ///   .3Dscene        ellipsoids and sensor path, for SceneViewer3D
 ///   .top.png, .3d.png   the pictures (unless disabled)
 ///   .coarseK.ndtom  the map K times coarser (if asked)
-/// Returns the coarse map's counts if one was written.
+/// Returns the coarse map's counts if one was written; adds each output's time to `times`.
 std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap& map,
                                              const std::vector<Eigen::Vector3d>& sensor_path,
-                                             const OutputSettings& settings, OutputFiles& out);
+                                             const OutputSettings& settings, OutputFiles& out,
+                                             StageTimes& times);
 
 }  // namespace ndtom::mapper

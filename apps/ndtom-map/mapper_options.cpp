@@ -74,6 +74,11 @@ const apps::OptionTable<MapperOptions>& optionTable() {
         [](O& o, const std::string& v) {
           o.max_ellipsoids = uint32_t(parseInteger("--max-ellipsoids", v, 1, 10000000));
         }}},
+      {"--ellipsoid-detail",
+       {true,
+        [](O& o, const std::string& v) {
+          o.ellipsoid_detail = int(parseInteger("--ellipsoid-detail", v, 0, 4));
+        }}},
       {"--quiet", {false, [](O& o, const std::string&) { o.quiet = true; }}},
       {"-q", {false, [](O& o, const std::string&) { o.quiet = true; }}},
       {"--help", {false, [](O& o, const std::string&) { o.help = true; }}},
@@ -168,6 +173,8 @@ std::string helpText() {
        "  --no-pictures             skip the PNGs\n"
        "  --image-width W           picture width [px] (1200)\n"
        "  --max-ellipsoids N        Gaussians drawn in the 3D picture and scene (50000)\n"
+       "  --ellipsoid-detail D      their tessellation, 0-4: 8*4^D triangles each (by their\n"
+       "                            number: 2 up to 8000, 1 up to 20000, else 0)\n"
        "  -q, --quiet               no progress, no summary on stdout\n"
        "  -h, --help                this text\n"
        "\n"

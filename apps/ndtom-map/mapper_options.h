@@ -30,6 +30,7 @@ struct MapperOptions {
   bool pictures = true;
   int image_width = 1200;           ///< pixels (Default: 1200)
   uint32_t max_ellipsoids = 50000;  ///< drawn in the 3D picture and scene (Default: 50000)
+  int ellipsoid_detail = -1;        ///< their subdivisions, 0-4; -1: by how many are drawn
   bool quiet = false;
   bool help = false;
 };

@@ -116,24 +116,23 @@ cv::Mat renderScene(const mrpt::opengl::COpenGLScene& scene, const Box& box, cv:
 
 }  // namespace
 
-mrpt_ndtom::TRenderOptions renderOptionsFor(const HeightScale& scale, uint32_t max_ellipsoids) {
+mrpt_ndtom::TRenderOptions renderOptionsFor(const ndtom::NdtMap& map, const HeightScale& scale,
+                                            uint32_t max_ellipsoids, int detail) {
   mrpt_ndtom::TRenderOptions o;
   o.color_min_z = scale.z_min;
   o.color_max_z = scale.z_max;
   o.max_ellipsoids = max_ellipsoids;
+  const size_t drawn = std::min<size_t>(map.numGaussians(), max_ellipsoids);
+  o.subdivisions = detail >= 0 ? uint32_t(detail) : drawn <= 8000 ? 2 : drawn <= 20000 ? 1 : 0;
   return o;
 }
 
-cv::Mat renderObliqueView(const ndtom::NdtMap& map, const mrpt_ndtom::TRenderOptions& options,
+cv::Mat renderObliqueView(const ndtom::NdtMap& map, const mrpt::opengl::CSetOfObjects::Ptr& gaussians,
+                          const mrpt_ndtom::TRenderOptions& o,
                           const std::vector<Eigen::Vector3d>& sensor_path, int width) {
   mrpt::opengl::COpenGLScene scene;
   scene.getViewport()->setCustomBackgroundColor(mrpt::img::TColorf(1.0f, 1.0f, 1.0f));
-  auto objects = mrpt::opengl::CSetOfObjects::Create();
-  mrpt_ndtom::TRenderOptions o = options;
-  // Smoother ellipsoids where few are drawn (128 instead of 32 triangles, ~100 bytes each).
-  if (map.numGaussians() <= 8000) o.subdivisions = 2;
-  mrpt_ndtom::buildNdtVisualization(map, o, *objects);
-  scene.insert(objects);
+  scene.insert(gaussians);
   scene.insert(pathLines(sensor_path));
 
   const cv::Size view(viewWidth(width), int(0.7 * viewWidth(width)));

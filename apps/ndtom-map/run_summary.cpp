@@ -92,11 +92,21 @@ void writeMapAndCosts(JsonWriter& j, const RunSummary& s) {
   j.field("insert_ms_median", 1e3 * median(m.insert_seconds));
   j.field("insert_ms_p95", 1e3 * percentile(m.insert_seconds, 0.95));
   j.field("total_s", s.total_seconds);
+  if (s.stages) {
+    j.beginObject("stages_s");
+    for (const auto& [stage, seconds] : s.stages->seconds()) j.field(stage, seconds);
+    j.endObject();
+  }
   j.endObject();
   j.beginObject("memory");
   j.field("map_bytes", last.map_bytes);
   j.field("peak_rss_after_mapping_bytes", s.peak_rss_after_mapping);
   j.field("peak_rss_bytes", s.peak_rss);
+  if (s.stages) {
+    j.beginObject("peak_rss_after_stage_bytes");
+    for (const auto& [stage, bytes] : s.stages->peakRss()) j.field(stage, bytes);
+    j.endObject();
+  }
   j.endObject();
 }
 
@@ -172,6 +182,14 @@ std::string summaryText(const RunSummary& s) {
                 p.rejected_too_far, 1e3 * median(m.insert_seconds),
                 1e3 * percentile(m.insert_seconds, 0.95), s.total_seconds, megabytes(s.peak_rss));
   text += buffer;
+  if (s.stages && !s.stages->seconds().empty()) {
+    text += "  stages ";
+    for (const auto& [stage, seconds] : s.stages->seconds()) {
+      std::snprintf(buffer, sizeof buffer, " %s %.2f s,", stage.c_str(), seconds);
+      text += buffer;
+    }
+    text.back() = '\n';
+  }
   if (m.passes.size() > 1) {
     const PassDrift d = passDrift(m.passes);
     for (size_t i = 0; i < m.passes.size(); ++i) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "map_builder.h"
+#include "stage_times.h"
 
 namespace ndtom::mapper {
 
@@ -31,6 +32,7 @@ struct RunSummary {
   size_t peak_rss_after_mapping = 0;  ///< bytes, before the pictures and files
   size_t peak_rss = 0;                ///< bytes, whole run
   std::vector<WrittenFile> files;
+  const StageTimes* stages = nullptr;  ///< reading, inserting, each output
 };
 
 /// Value at fraction q in [0, 1] of the sorted values (nearest rank); 0 if empty.

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <thread>
 
 #include "mapper_run.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
@@ -129,6 +130,25 @@ TEST(MapperEndToEnd, TumFramesGiveTheCoreMapAndEveryOutput) {
   EXPECT_EQ(jsonNumber(summary, "cells", "map"), double(expected.numCells()));
   EXPECT_GT(jsonNumber(summary, "insert_ms_median"), 0);
   EXPECT_GT(jsonNumber(summary, "peak_rss_bytes"), 0);
+  // Every stage timed, in the order run, together within the run's total; the peak memory
+  // after each never decreases and ends at the run's peak.
+  double stages = 0, last_peak = 0;
+  for (const char* stage :
+       {"read", "insert", "map", "mrpt_map", "ellipsoids", "scene", "top_view", "view_3d"}) {
+    const double seconds = jsonNumber(summary, stage, "stages_s");
+    EXPECT_GE(seconds, 0) << stage;
+    stages += seconds;
+    const double peak = jsonNumber(summary, stage, "peak_rss_after_stage_bytes");
+    EXPECT_GE(peak, last_peak) << stage;
+    last_peak = peak;
+  }
+  EXPECT_GT(jsonNumber(summary, "insert", "stages_s"), 0);
+  EXPECT_LE(stages, jsonNumber(summary, "total_s"));
+  EXPECT_GT(stages, 0.5 * jsonNumber(summary, "total_s"));
+  EXPECT_LE(last_peak, jsonNumber(summary, "peak_rss_bytes"));
+  // No --threads: as many as the machine has cores.
+  EXPECT_EQ(jsonNumber(summary, "threads"),
+            std::clamp(double(std::thread::hardware_concurrency()), 1.0, 256.0));
 
   expectRealPicture(dir / "tum.top.png", 900);
   expectRealPicture(dir / "tum.3d.png", 900);

@@ -77,9 +77,10 @@ mrpt::math::TPoint3Df toFloat(const Vector3d& v) {
   return {float(v.x()), float(v.y()), float(v.z())};
 }
 
-void appendEllipsoid(const ndtom::Gaussian& g, const std::vector<UnitTriangle>& sphere,
-                     double quantiles, const mrpt::img::TColor& color,
-                     std::vector<mrpt::opengl::TTriangle>& out) {
+void ellipsoidTriangles(const ndtom::Gaussian& g, const std::vector<UnitTriangle>& sphere,
+                        double quantiles, const mrpt::img::TColor& color,
+                        std::vector<mrpt::opengl::TTriangle>& out) {
+  out.clear();
   // Surface point μ + A·u with A = V·diag(k·√λ); its normal is A⁻ᵀ·u.
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(g.covariance);
   const Vector3d sigma = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt() * quantiles;
@@ -132,18 +133,19 @@ void buildNdtVisualization(const ndtom::NdtMap& map, const TRenderOptions& o,
   if (!gaussians.empty()) {
     const auto sphere = unitSphere(o.subdivisions);
     const auto [z_lo, z_hi] = colorRange(gaussians, o);
+    // Straight into the mesh, one ellipsoid at a time: no second copy of every triangle.
+    auto mesh = mrpt::opengl::CSetOfTriangles::Create();
+    mesh->setName("ndtom_gaussians");
+    mesh->reserve(gaussians.size() * sphere.size());
     std::vector<mrpt::opengl::TTriangle> tris;
-    tris.reserve(gaussians.size() * sphere.size());
     for (const auto& g : gaussians) {
       float r, gr, b;
       const double t = std::clamp((g.mean.z() - z_lo) / (z_hi - z_lo), 0.0, 1.0);
       mrpt::img::colormap(o.colormap, float(t), r, gr, b);
       const mrpt::img::TColor color(uint8_t(255 * r), uint8_t(255 * gr), uint8_t(255 * b));
-      appendEllipsoid(g, sphere, o.quantiles, color, tris);
+      ellipsoidTriangles(g, sphere, o.quantiles, color, tris);
+      mesh->insertTriangles(tris.begin(), tris.end());
     }
-    auto mesh = mrpt::opengl::CSetOfTriangles::Create();
-    mesh->setName("ndtom_gaussians");
-    mesh->insertTriangles(tris.begin(), tris.end());
     out.insert(mesh);
   }
   if (o.show_free_cells) out.insert(freeCells(map, o));
