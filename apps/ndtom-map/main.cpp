@@ -102,7 +102,8 @@ int run(const MapperOptions& o) {
   map.renderOptions = renderOptionsFor(mapping.map, heightScaleOf(mapping.map), o.max_ellipsoids,
                                        o.ellipsoid_detail);
   map.setNdtMap(std::move(mapping.map));
-  const OutputSettings output_settings{o.coarse, o.pictures, o.image_width, o.max_ellipsoids};
+  const OutputSettings output_settings{o.coarse, o.pictures, o.image_width, o.max_ellipsoids,
+                                       o.octomap};
   const auto coarse = writeMapOutputs(map, mapping.sensor_path, output_settings, out, times);
 
   // The summary, then every file into place at once.

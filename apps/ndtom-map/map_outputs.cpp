@@ -9,6 +9,7 @@
 #include "ndtom/map_io.h"
 #include "ndtom_apps/run_program.h"
 #include "oblique_view.h"
+#include "octomap_export.h"
 #include "png_bytes.h"
 #include "top_view.h"
 
@@ -97,6 +98,8 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
                                                 settings.image_width)));
     });
   }
+  if (settings.octomap)
+    times.time("octomap", [&] { writeOctomapBinary(ndt, out.stage("octomap", ".bt")); });
   if (settings.coarse < 2) return std::nullopt;
   return times.time("coarse_map", [&] {
     const ndtom::NdtMap coarse = ndt.coarsened(settings.coarse);

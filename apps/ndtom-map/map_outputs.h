@@ -16,6 +16,7 @@ struct OutputSettings {
   bool pictures = true;
   int image_width = 1200;
   uint32_t max_ellipsoids = 50000;
+  bool octomap = false;  ///< also PREFIX.bt
 };
 
 /// Stages every output in `out` (nothing is committed here):
@@ -24,6 +25,7 @@ struct OutputSettings {
 ///   .3Dscene        ellipsoids and sensor path, for SceneViewer3D
 ///   .top.png, .3d.png   the pictures (unless disabled)
 ///   .coarseK.ndtom  the map K times coarser (if asked)
+///   .bt             the map as an OctoMap (if asked)
 /// Returns the coarse map's counts if one was written; adds each output's time to `times`.
 std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap& map,
                                              const std::vector<Eigen::Vector3d>& sensor_path,

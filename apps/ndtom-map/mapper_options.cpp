@@ -64,6 +64,7 @@ const apps::OptionTable<MapperOptions>& optionTable() {
        {true,
         [](O& o, const std::string& v) { o.passes = int(parseInteger("--passes", v, 1, 1000)); }}},
       {"--no-pictures", {false, [](O& o, const std::string&) { o.pictures = false; }}},
+      {"--octomap", {false, [](O& o, const std::string&) { o.octomap = true; }}},
       {"--image-width",
        {true,
         [](O& o, const std::string& v) {
@@ -171,6 +172,8 @@ std::string helpText() {
        "                            CNDTOccupancyMap), PREFIX.3Dscene (SceneViewer3D),\n"
        "                            PREFIX.top.png, PREFIX.3d.png, PREFIX.summary.json\n"
        "  --no-pictures             skip the PNGs\n"
+       "  --octomap                 also PREFIX.bt: the map as an OctoMap (octovis, OctoMap's\n"
+       "                            tools), occupied and free cells with their log-odds\n"
        "  --image-width W           picture width [px] (1200)\n"
        "  --max-ellipsoids N        Gaussians drawn in the 3D picture and scene (50000)\n"
        "  --ellipsoid-detail D      their tessellation, 0-4: 8*4^D triangles each (by their\n"

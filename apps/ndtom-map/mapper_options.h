@@ -28,6 +28,7 @@ struct MapperOptions {
   int passes = 1;               ///< times the input is replayed into the map (Default: 1)
 
   bool pictures = true;
+  bool octomap = false;  ///< also write PREFIX.bt
   int image_width = 1200;           ///< pixels (Default: 1200)
   uint32_t max_ellipsoids = 50000;  ///< drawn in the 3D picture and scene (Default: 50000)
   int ellipsoid_detail = -1;        ///< their subdivisions, 0-4; -1: by how many are drawn

@@ -70,6 +70,7 @@ std::string describe(const std::string& role) {
   if (role == "top_view") return "picture: the map from above";
   if (role == "view_3d") return "picture: the map in 3D";
   if (role == "coarse_map") return "the map, coarser (project format)";
+  if (role == "octomap") return "the map as an OctoMap (octovis, OctoMap's tools)";
   if (role == "summary") return "these figures, as JSON";
   return role;
 }
