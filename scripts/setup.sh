@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Installs the Debian packages this project needs, and only those that are missing.
 # Idempotent and silent when everything is present.
-# Usage: scripts/setup.sh [--with-fuzz] [--with-pcl]
+# Usage: scripts/setup.sh [--with-fuzz] [--with-pcl] [--with-octomap-tools]
 #   --with-fuzz  clang and its runtime, for the libFuzzer targets (scripts/fuzz.sh)
 #   --with-pcl   PCL 1.13 (libpcl-dev), only for the PCL peers of ndtom-regbench; no library,
 #                test or CI step needs it
+#   --with-octomap-tools  OctoMap's programs (graph2tree), for scripts/bench-map-e2e.sh
 set -euo pipefail
 
 packages=(
@@ -20,7 +21,8 @@ for option in "$@"; do
   case "$option" in
     --with-fuzz) packages+=(clang libclang-rt-14-dev) ;;
     --with-pcl) packages+=(libpcl-dev) ;;
-    *) echo "setup: unknown option '$option' (use --with-fuzz, --with-pcl)" >&2; exit 2 ;;
+    --with-octomap-tools) packages+=(octomap-tools) ;;
+    *) echo "setup: unknown option '$option' (use --with-fuzz, --with-pcl, --with-octomap-tools)" >&2; exit 2 ;;
   esac
 done
 
