@@ -1,6 +1,6 @@
 # ctest's downstream_install (cmake -P): installs the build into a fresh prefix, checks that
-# the installed ndtom-map runs from there, then configures, builds and runs two projects
-# against the prefix: core/ with OpenCV and MRPT disabled, and mrpt_user/.
+# the installed ndtom-map runs from there, then configures, builds and runs three projects
+# against the prefix: core/ with OpenCV and MRPT disabled, io_user/ and mrpt_user/.
 # -D: BUILD_DIR (the project's build), SOURCE_DIR (this folder), WORK_DIR, GENERATOR, CXX.
 cmake_minimum_required(VERSION 3.16)
 
@@ -36,6 +36,11 @@ run_expect(0 ${CMAKE_COMMAND} -S ${SOURCE_DIR}/core -B ${WORK_DIR}/core ${config
   -DCMAKE_DISABLE_FIND_PACKAGE_mrpt-opengl=ON -DCMAKE_DISABLE_FIND_PACKAGE_mrpt-slam=ON)
 run_expect(0 ${CMAKE_COMMAND} --build ${WORK_DIR}/core -j2)
 run_expect(0 ${WORK_DIR}/core/core_user)
+
+# The readers, on the installed demo frames.
+run_expect(0 ${CMAKE_COMMAND} -S ${SOURCE_DIR}/io_user -B ${WORK_DIR}/io_user ${configure_args})
+run_expect(0 ${CMAKE_COMMAND} --build ${WORK_DIR}/io_user -j2)
+run_expect(0 ${WORK_DIR}/io_user/io_user ${prefix}/share/ndtom/data/tum-fr2-pioneer-slam2)
 
 # (b) The map from .ini text under --as-needed; the bare link is the control that loses it.
 run_expect(0 ${CMAKE_COMMAND} -S ${SOURCE_DIR}/mrpt_user -B ${WORK_DIR}/mrpt_user ${configure_args})
