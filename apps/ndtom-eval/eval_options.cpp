@@ -1,6 +1,7 @@
 #include "eval_options.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <functional>
 #include <map>
 
@@ -10,7 +11,19 @@ namespace ndtom::eval {
 
 namespace {
 
-const std::string kSharedDatasets = std::string(NDTOM_SOURCE_DIR) + "/../shared/datasets";
+// The shared datasets beside the source tree the program was built in; once installed (and
+// without them), <prefix>/share/ndtom/data, which holds the TUM demo frames, found from the
+// executable's own path so that a moved or unpacked prefix works too.
+std::string defaultDataDir() {
+  namespace fs = std::filesystem;
+  const std::string shared = std::string(NDTOM_SOURCE_DIR) + "/../shared/datasets";
+  std::error_code error;
+  if (fs::is_directory(shared, error)) return shared;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
+  if (error) return shared;
+  const fs::path installed = exe.parent_path().parent_path() / NDTOM_INSTALL_DATADIR / "ndtom/data";
+  return fs::is_directory(installed, error) ? installed.string() : shared;
+}
 
 int parseCount(const std::string& option, const std::string& text, int min_value) {
   return int(apps::parseInteger(option, text, min_value, 1000000));
@@ -54,8 +67,9 @@ std::set<std::string> parseChoice(const std::string& option, const std::string& 
 
 EvalOptions parseEvalOptions(int argc, char** argv) {
   EvalOptions o;
-  o.tum_dir = kSharedDatasets + "/tum-fr2-pioneer-slam2";
-  o.lidar_dir = kSharedDatasets + "/balm-realworld";
+  const std::string data = defaultDataDir();
+  o.tum_dir = data + "/tum-fr2-pioneer-slam2";
+  o.lidar_dir = data + "/balm-realworld";
   using Setter = std::function<void(const std::string& option, const std::string& value)>;
   const std::map<std::string, Setter> setters = {
       {"--tum", [&](auto&, auto& v) { o.tum_dir = v; }},
@@ -100,7 +114,7 @@ std::string helpText() {
 
 Usage: ndtom-eval [options]
 
-Data (defaults: ../shared/datasets beside the repository):
+Data (defaults: ../shared/datasets beside the repository; installed: share/ndtom/data):
   --tum DIR                  TUM RGB-D sequence (associations.txt with poses, depth/*.png)
   --lidar DIR                lidar scans fullN.pcd + poses.txt (KITTI, sensor -> world)
   --out DIR                  output folder for CSV and PNG files (default: ndtom-eval-out)

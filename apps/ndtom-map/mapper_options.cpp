@@ -181,7 +181,8 @@ std::string helpText() {
        "  -q, --quiet               no progress, no summary on stdout\n"
        "  -h, --help                this text\n"
        "\n"
-       "Example: ndtom-map share/data/tum-fr2-pioneer-slam2 -o out/tum\n";
+       "Example: ndtom-map share/data/tum-fr2-pioneer-slam2 -o out/tum  (from the source tree)\n"
+       "         ndtom-map /usr/share/ndtom/data/tum-fr2-pioneer-slam2 -o out/tum  (.deb)\n";
   return s.str();
 }
 

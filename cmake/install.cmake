@@ -1,0 +1,44 @@
+# Installs the libraries, headers, programs and shared data under GNUInstallDirs paths, and
+# the CMake package `ndtom` (find_package(ndtom CONFIG)). Each library has its own export set
+# so that the core's targets file needs only Eigen: ndtom_io's loads OpenCV, mrpt_ndtom's MRPT.
+include(CMakePackageConfigHelpers)
+set(NDTOM_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/ndtom)
+
+install(TARGETS ndtom EXPORT ndtom-targets)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/libs/ndtom/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(EXPORT ndtom-targets NAMESPACE ndtom:: DESTINATION ${NDTOM_CMAKE_DIR})
+
+set(NDTOM_EXPORTED_COMPONENTS "")
+if(TARGET ndtom_io)
+  install(TARGETS ndtom_io EXPORT ndtom_io-targets)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/libs/ndtom_io/include/
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  install(EXPORT ndtom_io-targets NAMESPACE ndtom:: DESTINATION ${NDTOM_CMAKE_DIR})
+  list(APPEND NDTOM_EXPORTED_COMPONENTS ndtom_io)
+endif()
+if(TARGET mrpt_ndtom)
+  install(TARGETS mrpt_ndtom mrpt_ndtom_linked EXPORT mrpt_ndtom-targets)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/libs/mrpt_ndtom/include/
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  install(EXPORT mrpt_ndtom-targets NAMESPACE ndtom:: DESTINATION ${NDTOM_CMAKE_DIR})
+  list(APPEND NDTOM_EXPORTED_COMPONENTS mrpt_ndtom)
+endif()
+
+configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/ndtomConfig.cmake.in
+  ${PROJECT_BINARY_DIR}/ndtomConfig.cmake INSTALL_DESTINATION ${NDTOM_CMAKE_DIR})
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/ndtomConfigVersion.cmake
+  COMPATIBILITY SameMajorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/ndtomConfig.cmake ${PROJECT_BINARY_DIR}/ndtomConfigVersion.cmake
+        DESTINATION ${NDTOM_CMAKE_DIR})
+
+# The user-facing programs. Not ndtom-microbench: a developer's tool that reads the test data
+# from the source tree by a compiled-in path, and would add Google Benchmark to the package.
+foreach(program ndtom-map ndtom-localize ndtom-rawlog-from-pcd ndtom-eval ndtom-bench ndtom-regbench)
+  if(TARGET ${program})
+    install(TARGETS ${program} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  endif()
+endforeach()
+
+# share/ndtom/mrpt: the .ini files for MRPT's programs; share/ndtom/data: the demo frames.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/share/mrpt ${PROJECT_SOURCE_DIR}/share/data
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/ndtom)
