@@ -1,6 +1,7 @@
 #include "map_comparison.h"
 
 #include "ndtom/map_io.h"
+#include "ndtom/map_queries.h"
 #include "ndtom/ndt_map.h"
 
 // The core's map similarity arrived after this harness: use it when it is there, so the
@@ -14,8 +15,8 @@ namespace ndtom::bench {
 
 namespace {
 
-bool occupied(const std::optional<CellView>& c) {
-  return c && c->logodds > 0;
+bool occupied(const NdtMap& map, const std::optional<CellView>& c) {
+  return c && cellState(map, *c) == CellState::Occupied;
 }
 
 /// Mean-L2 similarity of `test` to `reference` (design.md), or empty with a core that has
@@ -46,12 +47,12 @@ MapComparison compareMaps(const std::string& reference_label, const NdtMap& refe
   size_t union_cells = 0, mismatched = 0;
   reference.forEachCell([&](const CellView& r) {
     ++union_cells;
-    mismatched += (r.logodds > 0) != occupied(test.cell(r.index));
+    mismatched += occupied(reference, r) != occupied(test, test.cell(r.index));
   });
   test.forEachCell([&](const CellView& t) {
     if (reference.cell(t.index)) return;  // counted above
     ++union_cells;
-    mismatched += t.logodds > 0;
+    mismatched += occupied(test, t);
   });
   c.occupancy_mismatch = union_cells > 0 ? double(mismatched) / double(union_cells) : 0;
   c.similarity = similarityOf(reference, test);

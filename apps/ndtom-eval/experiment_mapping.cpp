@@ -7,6 +7,7 @@
 
 #include "experiments.h"
 #include "method_colors.h"
+#include "ndtom/map_queries.h"
 #include "ndtom_apps/progress.h"
 #include "top_view.h"
 
@@ -24,10 +25,11 @@ OccupancyStats occupancyStats(const NdtMap& map) {
   double sum_occupied = 0, sum_empty = 0;
   map.forEachCell([&](const CellView& c) {
     ++s.known;
-    if (c.logodds > 0) {
+    const CellState state = cellState(map, c);
+    if (state == CellState::Occupied) {
       ++s.occupied;
       sum_occupied += c.logodds;
-    } else if (c.logodds < 0) {
+    } else if (state == CellState::Free) {
       ++s.empty;
       sum_empty += c.logodds;
     }
@@ -53,7 +55,7 @@ std::vector<CellIndex> dynamicConflicts(const MappingMaps& maps) {
   maps.recursive.forEachCell([&](const CellView& c) {
     if (!c.stats || !c.stats->hasGaussian()) return;
     const auto other = maps.ndtom.cell(c.index);
-    if (other && other->logodds <= 0.f) conflicts.push_back(c.index);
+    if (other && cellState(maps.ndtom, *other) != CellState::Occupied) conflicts.push_back(c.index);
   });
   return conflicts;
 }

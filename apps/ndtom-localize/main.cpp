@@ -7,6 +7,7 @@
 #include "localize_options.h"
 #include "localize_outputs.h"
 #include "map_file.h"
+#include "ndtom/map_queries.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/run_program.h"
 #include "tracking.h"
@@ -23,10 +24,8 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 bool hasOccupiedGaussian(const ndtom::NdtMap& map) {
   bool found = false;
-  map.forEachCell([&](const ndtom::CellView& c) {
-    found = found || (c.stats && c.stats->hasGaussian() &&
-                      (c.logodds > 0 || !map.options().occupancy.enabled));
-  });
+  map.forEachCell(
+      [&](const ndtom::CellView& c) { found = found || ndtom::isOccupiedGaussian(map, c); });
   return found;
 }
 
@@ -66,7 +65,8 @@ int run(const LocalizeOptions& o) {
 
   ndtom::apps::Progress progress(!o.quiet);
   for (size_t k = 0; k < o.skip; ++k)
-    if (!source->next()) throw InputError(o.input + ": fewer than --skip " + std::to_string(o.skip) + " scans");
+    if (!source->next())
+      throw InputError(o.input + ": fewer than --skip " + std::to_string(o.skip) + " scans");
   const TrackingResult tracking = track(map, *source, o.tracking, lookup, progress, o.skip);
   if (tracking.scans.empty()) throw InputError(o.input + ": no scans");
   writeTrajectoryOutputs(map, tracking, o, out);

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <vector>
 
+#include "ndtom/map_queries.h"
+
 namespace ndtom::mapper {
 
 double HeightScale::fraction(double z) const {
@@ -20,7 +22,7 @@ cv::Scalar HeightScale::bgr(double z) const {
 HeightScale heightScaleOf(const ndtom::NdtMap& map) {
   std::vector<double> z;
   map.forEachCell([&](const ndtom::CellView& c) {
-    if (c.stats && c.stats->hasGaussian() && c.logodds > 0) z.push_back(map.gaussianOf(c).mean.z());
+    if (ndtom::isOccupiedGaussian(map, c)) z.push_back(map.gaussianOf(c).mean.z());
   });
   HeightScale scale;
   if (z.empty()) return scale;

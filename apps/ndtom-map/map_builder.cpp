@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "ndtom/map_queries.h"
 #include "ndtom_apps/process_memory.h"
 
 namespace ndtom::mapper {
@@ -18,8 +19,9 @@ PassResult describeMap(const ndtom::NdtMap& map) {
   r.cells = map.numCells();
   r.gaussians = map.numGaussians();
   map.forEachCell([&](const ndtom::CellView& c) {
-    if (c.logodds > 0) ++r.occupied;
-    if (c.logodds < 0) ++r.free;
+    const ndtom::CellState state = ndtom::cellState(map, c);
+    r.occupied += state == ndtom::CellState::Occupied;
+    r.free += state == ndtom::CellState::Free;
   });
   r.map_bytes = map.memoryBytes();
   r.rss_bytes = apps::currentRssBytes();

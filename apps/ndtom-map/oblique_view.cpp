@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 
+#include "ndtom/map_queries.h"
 #include "picture_layout.h"
 
 namespace ndtom::mapper {
@@ -28,7 +29,7 @@ struct Box {
 Box robustBox(const ndtom::NdtMap& map) {
   std::vector<double> axis[3];
   map.forEachCell([&](const ndtom::CellView& c) {
-    if (!(c.stats && c.stats->hasGaussian() && c.logodds > 0)) return;
+    if (!ndtom::isOccupiedGaussian(map, c)) return;
     const Eigen::Vector3d m = map.gaussianOf(c).mean;
     for (int k = 0; k < 3; ++k) axis[k].push_back(m[k]);
   });
@@ -127,7 +128,8 @@ mrpt_ndtom::TRenderOptions renderOptionsFor(const ndtom::NdtMap& map, const Heig
   return o;
 }
 
-cv::Mat renderObliqueView(const ndtom::NdtMap& map, const mrpt::opengl::CSetOfObjects::Ptr& gaussians,
+cv::Mat renderObliqueView(const ndtom::NdtMap& map,
+                          const mrpt::opengl::CSetOfObjects::Ptr& gaussians,
                           const mrpt_ndtom::TRenderOptions& o,
                           const std::vector<Eigen::Vector3d>& sensor_path, int width) {
   mrpt::opengl::COpenGLScene scene;

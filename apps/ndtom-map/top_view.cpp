@@ -6,6 +6,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "ndtom/map_queries.h"
 #include "ndtom_apps/xy_ellipse.h"
 #include "picture_layout.h"
 
@@ -26,10 +27,6 @@ struct Frame {
   }
 };
 
-bool isOccupiedGaussian(const ndtom::CellView& c) {
-  return c.stats && c.stats->hasGaussian() && c.logodds > 0;
-}
-
 double quantile(std::vector<double>& v, double q) {
   const size_t k = std::min(v.size() - 1, size_t(q * double(v.size())));
   std::nth_element(v.begin(), v.begin() + long(k), v.end());
@@ -41,7 +38,7 @@ double quantile(std::vector<double>& v, double q) {
 Frame frameFor(const ndtom::NdtMap& map, const std::vector<Eigen::Vector3d>& path, int view_width) {
   std::vector<double> xs, ys;
   map.forEachCell([&](const ndtom::CellView& c) {
-    if (!isOccupiedGaussian(c)) return;
+    if (!ndtom::isOccupiedGaussian(map, c)) return;
     const Eigen::Vector3d p = map.geometry().cellCenter(c.index);
     xs.push_back(p.x());
     ys.push_back(p.y());
@@ -90,10 +87,11 @@ void drawColumns(const ndtom::NdtMap& map, const Frame& f, const HeightScale& sc
   cv::Mat state(view.size(), CV_8U, cv::Scalar(0));
   cv::Mat top_z(view.size(), CV_32F, cv::Scalar(-std::numeric_limits<float>::infinity()));
   map.forEachCell([&](const ndtom::CellView& c) {
-    if (c.logodds == 0) return;
-    const uint8_t s = c.logodds < 0 ? 1 : 2;
-    const float z = isOccupiedGaussian(c) ? float(map.gaussianOf(c).mean.z())
-                                          : -std::numeric_limits<float>::infinity();
+    const ndtom::CellState cell_state = ndtom::cellState(map, c);
+    if (cell_state == ndtom::CellState::Unknown) return;
+    const uint8_t s = cell_state == ndtom::CellState::Free ? 1 : 2;
+    const float z = ndtom::isOccupiedGaussian(map, c) ? float(map.gaussianOf(c).mean.z())
+                                                      : -std::numeric_limits<float>::infinity();
     const cv::Rect r = columnPixels(map, c.index, f, view.size());
     for (int y = r.y; y < r.y + r.height; ++y)
       for (int x = r.x; x < r.x + r.width; ++x) {
@@ -116,7 +114,7 @@ size_t drawGaussians(const ndtom::NdtMap& map, const Frame& f, const HeightScale
                      cv::Mat& view) {
   std::vector<ndtom::Gaussian> gaussians;
   map.forEachCell([&](const ndtom::CellView& c) {
-    if (isOccupiedGaussian(c)) gaussians.push_back(map.gaussianOf(c));
+    if (ndtom::isOccupiedGaussian(map, c)) gaussians.push_back(map.gaussianOf(c));
   });
   std::sort(gaussians.begin(), gaussians.end(),
             [](const auto& a, const auto& b) { return a.mean.z() < b.mean.z(); });
@@ -187,7 +185,8 @@ cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale, const 
                 map.options().resolution);
   return composePicture(view, title,
                         "1-sigma ellipses by height, on the colour of the highest one in their "
-                        "column; white: free; grey: unknown; " + path.legend,
+                        "column; white: free; grey: unknown; " +
+                            path.legend,
                         scale);
 }
 

@@ -198,3 +198,26 @@ TEST(Visualization, RendersOffscreen) {
     for (unsigned x = 0; x < 320; ++x) empty_drawn += pixel(empty_image, x, y) != background;
   EXPECT_EQ(empty_drawn, 0u);
 }
+
+TEST(Visualization, RecursiveNdtMapsDrawEveryGaussian) {
+  // Without occupancy there are no log-odds: every cell with a Gaussian is occupied (the one
+  // rule of ndtom/map_queries.h), and nothing is free.
+  auto map = CNDTOccupancyMap::Create(0.5);
+  map->insertionOptions.occupancy_enabled = false;
+  map->renderOptions.show_free_cells = true;
+  const auto occupied = sampleMap();
+  std::vector<Vector3d> points;
+  occupied->ndtMap().forEachGaussian([&](const ndtom::Gaussian& g) { points.push_back(g.mean); });
+  for (int copy = 0; copy < 3; ++copy) map->insertPoints(points, Vector3d(0.5, 0.5, 5.0));
+  ASSERT_GT(map->ndtMap().numGaussians(), 3u);
+  mrpt::opengl::CSetOfObjects objs;
+  map->getVisualizationInto(objs);
+  const auto mesh = meshOf(objs);
+  ASSERT_TRUE(mesh);
+  EXPECT_EQ(mesh->getTrianglesCount(),
+            map->ndtMap().numGaussians() * mrpt_ndtom::trianglesPerEllipsoid(1));
+  const auto free = std::dynamic_pointer_cast<mrpt::opengl::CPointCloudColoured>(
+      objs.getByName("ndtom_free_cells"));
+  ASSERT_TRUE(free);
+  EXPECT_EQ(free->size(), 0u);
+}

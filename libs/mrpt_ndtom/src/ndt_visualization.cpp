@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "ndtom/map_queries.h"
 
 namespace mrpt_ndtom {
 namespace {
@@ -45,7 +46,9 @@ std::vector<UnitTriangle> unitSphere(uint32_t levels) {
 std::vector<ndtom::Gaussian> selectGaussians(const ndtom::NdtMap& map, const TRenderOptions& o) {
   std::vector<ndtom::Gaussian> all;
   map.forEachCellOrdered([&](const ndtom::CellView& c) {
-    if (c.stats && c.stats->hasGaussian() && c.logodds > o.min_logodds)
+    // A map without occupancy (Recursive NDT) has no log-odds to threshold.
+    if (ndtom::isOccupiedGaussian(map, c) &&
+        (!map.options().occupancy.enabled || c.logodds > o.min_logodds))
       all.push_back(map.gaussianOf(c, /*regularized=*/true));
   });
   if (all.size() > o.max_ellipsoids) {
@@ -104,7 +107,8 @@ mrpt::opengl::CPointCloudColoured::Ptr freeCells(const ndtom::NdtMap& map,
                                                  const TRenderOptions& o) {
   std::vector<Vector3d> centres;
   map.forEachCellOrdered([&](const ndtom::CellView& c) {
-    if (c.logodds < 0) centres.push_back(map.geometry().cellCenter(c.index));
+    if (ndtom::cellState(map, c) == ndtom::CellState::Free)
+      centres.push_back(map.geometry().cellCenter(c.index));
   });
   auto cloud = mrpt::opengl::CPointCloudColoured::Create();
   cloud->setName("ndtom_free_cells");
@@ -118,7 +122,6 @@ mrpt::opengl::CPointCloudColoured::Ptr freeCells(const ndtom::NdtMap& map,
   }
   return cloud;
 }
-
 
 }  // namespace
 

@@ -20,6 +20,11 @@ CellState cellState(const NdtMap& map, const CellView& cell);
 /// supported range (NaN included).
 CellState stateAt(const NdtMap& map, const Eigen::Vector3d& point);
 
+/// A cell with a Gaussian (N >= 3) that is occupied: what drawings and localization use.
+inline bool isOccupiedGaussian(const NdtMap& map, const CellView& cell) {
+  return cell.stats && cell.stats->hasGaussian() && cellState(map, cell) == CellState::Occupied;
+}
+
 inline bool isOccupied(const NdtMap& map, const Eigen::Vector3d& point) {
   return stateAt(map, point) == CellState::Occupied;
 }
