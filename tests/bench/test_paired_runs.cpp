@@ -3,7 +3,9 @@
 // back per system.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -19,17 +21,22 @@ using ndtom::bench::ScanSet;
 /// Records every call, with the system's name, in one shared log.
 class RecordingSystem : public MappingSystem {
  public:
-  RecordingSystem(std::string name, std::vector<std::pair<std::string, int>>& log)
-      : name_(std::move(name)), log_(log) {}
+  RecordingSystem(std::string name, std::vector<std::pair<std::string, int>>& log,
+                  std::chrono::milliseconds per_scan = {})
+      : name_(std::move(name)), log_(log), per_scan_(per_scan) {}
   std::string label() const override { return name_; }
   void reset() override { log_.push_back({name_, -1}); }
-  void insertScan(const Scan& scan) override { log_.push_back({name_, int(scan.points.size())}); }
+  void insertScan(const Scan& scan) override {
+    log_.push_back({name_, int(scan.points.size())});
+    std::this_thread::sleep_for(per_scan_);
+  }
   uint64_t lastScanVisits(const Scan&) override { return 0; }
   MapSize mapSize() const override { return {}; }
 
  private:
   std::string name_;
   std::vector<std::pair<std::string, int>>& log_;
+  std::chrono::milliseconds per_scan_;
 };
 
 }  // namespace
@@ -44,11 +51,13 @@ TEST(PairedRuns, BothSystemsSeeEveryScanInOrderTakingShortAlternatingTurns) {
     set.scans.push_back(scan);
   }
   std::vector<std::pair<std::string, int>> log;
-  RecordingSystem a("a", log), b("b", log);
+  // b takes 3 ms a scan, a nothing: each side's time must be its own inserts'.
+  RecordingSystem a("a", log), b("b", log, std::chrono::milliseconds(3));
   ndtom::apps::Progress quiet(false);
   const ndtom::bench::PairedSeconds seconds = ndtom::bench::runPaired(a, b, set, kRepeats, quiet);
+  EXPECT_GE(seconds.second, kScans * kRepeats * 0.003);
   EXPECT_GE(seconds.first, 0.0);
-  EXPECT_GE(seconds.second, 0.0);
+  EXPECT_LT(seconds.first, 0.5 * seconds.second);
 
   // Per system: a reset, then scans 1..kScans, once per repeat.
   for (const std::string name : {"a", "b"}) {
