@@ -366,6 +366,26 @@ TEST(NdtMapRayModes, HitsAndGaussiansDoNotDependOnTheRayMode) {
   EXPECT_NEAR(double(b.numGaussians()), double(a.numGaussians()), 0.05 * a.numGaussians());
 }
 
+TEST(NdtMapRayModes, PerHitCellRaysAimAtTheMeanOfEachCellsEnds) {
+  // Against the oracle's own grouping and brute-force rays, cell by cell, including ends
+  // beyond max_range (their own groups, free rays only).
+  MapOptions options;
+  options.resolution = 0.5;
+  options.insertion.ray_mode = ndtom::RayMode::PerHitCell;
+  options.insertion.max_range = 3.0;
+  NdtMap map(options);
+  ndtom::testing::OracleMap oracle(options);
+  std::mt19937 rng(12);
+  for (int i = 0; i < 8; ++i) {
+    Vector3d origin;
+    const auto pts = randomScan(rng, &origin);
+    const auto report = map.insertScan(pts, origin);
+    oracle.insert(pts, origin);
+    EXPECT_GT(report.truncated, 0u);
+    expectMatchesOracle(map, oracle);
+  }
+}
+
 TEST(NdtMapQueries, CoordinatesUseFloorIncludingNegatives) {
   NdtMap map(unitGrid());
   map.insertScan({{-2.5, -0.5, 0.5}, {-2.6, -0.4, 0.5}, {-2.4, -0.6, 0.5}}, {0.5, 0.5, 0.5});

@@ -1,5 +1,6 @@
 // A slow, obviously-correct NDT-OM: std::map of cells, brute-force ray/cell intersection,
-// per-cell point lists and two-pass statistics. The reference for the map tests.
+// per-cell point lists and two-pass statistics. The reference for the map tests, in both ray
+// modes (PerHitCell: one ray per cell of ends, to their mean, weighted by their number).
 #pragma once
 
 #include <algorithm>
@@ -24,6 +25,9 @@ class OracleMap {
   void insert(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& origin) {
     std::map<CellIndex, int> hits, misses;
     std::map<CellIndex, std::vector<Eigen::Vector3d>> scan_points;
+    // PerHitCell: the ends grouped by cell and by hit or not, one ray per group.
+    std::map<std::pair<CellIndex, bool>, std::vector<Eigen::Vector3d>> groups;
+    const bool per_cell = options_.insertion.ray_mode == RayMode::PerHitCell;
     for (const auto& p : points) {
       if (!p.allFinite()) continue;
       const double range = (p - origin).norm();
@@ -35,8 +39,21 @@ class OracleMap {
         hits[geometry_.cellOf(p)]++;
         scan_points[geometry_.cellOf(p)].push_back(p);
       }
-      if (options_.occupancy.enabled)
+      if (!options_.occupancy.enabled) continue;
+      if (per_cell)
+        groups[{geometry_.cellOf(end), hit}].push_back(end);
+      else
         for (const CellIndex& c : bruteForce(geometry_, origin, end)) misses[c]++;
+    }
+    // One ray to the mean of a group's ends (relative to the cell centre, as the map sums
+    // them), counting for every end.
+    for (const auto& [key, ends] : groups) {
+      const Eigen::Vector3d centre = geometry_.cellCenter(key.first);
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (const auto& e : ends) mean += e - centre;
+      mean /= double(ends.size());
+      for (const CellIndex& c : bruteForce(geometry_, origin, centre + mean))
+        misses[c] += int(ends.size());
     }
     const double lh = std::log(options_.occupancy.p_hit / (1 - options_.occupancy.p_hit));
     const double lm = std::log(options_.occupancy.p_miss / (1 - options_.occupancy.p_miss));
