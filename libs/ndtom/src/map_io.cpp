@@ -132,8 +132,7 @@ void encodeMap(const NdtMap& map, const MapByteSink& sink) {
 }
 
 std::vector<uint8_t> encodeMap(const NdtMap& map) {
-  std::vector<uint8_t> out;
-  out.reserve(size_t(encodedMapSize(map)));
+  std::vector<uint8_t> out;  // not reserved: the size would take a second encoding
   encodeMap(map,
             [&](const uint8_t* data, size_t size) { out.insert(out.end(), data, data + size); });
   return out;

@@ -56,7 +56,7 @@ using MapByteSink = std::function<void(const uint8_t* data, size_t size)>;
 std::vector<uint8_t> encodeMap(const NdtMap& map);
 /// The same bytes, handed to `sink` in pieces of about 1 MB: no copy of the whole encoding.
 void encodeMap(const NdtMap& map, const MapByteSink& sink);
-/// The size of encodeMap(map), without encoding it.
+/// The size of encodeMap(map): the map encoded into a counter, its bytes never held.
 uint64_t encodedMapSize(const NdtMap& map);
 
 /// `source` names the data in error messages (a file name, "MRPT archive", ...). The map gets
