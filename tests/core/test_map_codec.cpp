@@ -174,13 +174,14 @@ TEST(MapCodec, EdgeCellsRoundTrip) {
   one.n = 1;
   one.mean = {0.05, -0.0, 0.1};
   one.scatter(1, 1) = -0.0;  // a zero by value, not by bits
-  CellStats repeated = CellStats::fromPoints({{0.01, 0.01, 0.01}, {0.01, 0.01, 0.01}, {0.01, 0.01, 0.01}});
+  CellStats repeated =
+      CellStats::fromPoints({{0.01, 0.01, 0.01}, {0.01, 0.01, 0.01}, {0.01, 0.01, 0.01}});
   ASSERT_TRUE(repeated.scatter.isZero(0));
   CellStats saturated = threePoints();
   saturated.n = UINT32_MAX;
   const std::vector<std::pair<CellIndex, CellStats>> cells = {
-      {{0, 0, 0}, threePoints()},   {{-1, -1, -1}, one},        {{-8, 0, 7}, repeated},
-      {{-top, top, 0}, saturated},  {{top, -top, -top}, {}},    {{-top, -top, -top}, one},
+      {{0, 0, 0}, threePoints()},       {{-1, -1, -1}, one},         {{-8, 0, 7}, repeated},
+      {{-top, top, 0}, saturated},      {{top, -top, -top}, {}},     {{-top, -top, -top}, one},
       {{top, top, top}, threePoints()}, {{1000, -5000, 123456}, {}}, {{-9, -9, -9}, {}}};
   for (const auto& [index, stats] : cells) map.setCell(index, stats.n ? 1.5f : -0.0f, stats);
   map.setCell({-10, -9, -9}, 0.0f, {});  // +0 beside -0: different bits, different values
@@ -207,8 +208,7 @@ TEST(MapCodec, DamageAtEveryByteIsRejectedOrHarmless) {
     for (const uint8_t x : {0x01, 0x10, 0x80, 0xFF}) {
       auto b = bytes;
       b[at] ^= x;
-      EXPECT_THROW(ndtom::decodeMap(b.data(), b.size(), "changed"), ndtom::MapFormatError)
-          << at;
+      EXPECT_THROW(ndtom::decodeMap(b.data(), b.size(), "changed"), ndtom::MapFormatError) << at;
       if (at + 4 >= bytes.size()) continue;  // the checksum itself
       b = withCrc(b);
       std::optional<NdtMap> m;

@@ -85,10 +85,10 @@ void parseBlocks(Reader& in, Parsed& out) {
         continue;
       }
       if (left == 0) {
-        const uint64_t index = varint(in);
-        check(index < dictionary.size());
-        value = dictionary[index];
-        left = varint(in) + 1;
+        const uint64_t head = varint(in);
+        check((head >> 1) < dictionary.size());
+        value = dictionary[head >> 1];
+        left = head & 1 ? varint(in) + 2 : 1;
       }
       --left;
       cell.logodds = value;
@@ -106,7 +106,8 @@ void parseBlocks(Reader& in, Parsed& out) {
           for (int k = 3; k < 9; ++k) cell.values[k] = in.get<double>();
       }
       const int o = offsets[j];
-      const ndtom::CellIndex c{int32_t(block[0] * 8 + (o & 7)), int32_t(block[1] * 8 + ((o >> 3) & 7)),
+      const ndtom::CellIndex c{int32_t(block[0] * 8 + (o & 7)),
+                               int32_t(block[1] * 8 + ((o >> 3) & 7)),
                                int32_t(block[2] * 8 + (o >> 6))};
       check(out.cells.emplace(c, cell).second);
     }

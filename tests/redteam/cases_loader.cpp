@@ -95,16 +95,14 @@ std::vector<Case> loaderCountCases(const Context& c) {
   for (const auto& [field, at] : {std::pair{"cell", count_at}, std::pair{"block", count_at + 8}}) {
     uint64_t real_count;
     std::memcpy(&real_count, &small[at], 8);
-    for (const uint64_t count :
-         {real_count + 1, real_count - 1, real_count + 1000, uint64_t(1) << 31,
-          uint64_t(1700000000), uint64_t(1) << 32, uint64_t(1) << 40, uint64_t(1) << 62,
-          ~uint64_t(0)}) {
+    for (const uint64_t count : {real_count + 1, real_count - 1, real_count + 1000,
+                                 uint64_t(1) << 31, uint64_t(1700000000), uint64_t(1) << 32,
+                                 uint64_t(1) << 40, uint64_t(1) << 62, ~uint64_t(0)}) {
       std::vector<uint8_t> f = small;
       std::memcpy(&f[at], &count, 8);
       f = withCrc(f);
       for (const char* command : {"load-ndtom", "load-ndtommap"})
-        addProbeCase(set,
-                     std::string(command) + ", " + field + " count " + std::to_string(count),
+        addProbeCase(set, std::string(command) + ", " + field + " count " + std::to_string(count),
                      command, ".x", std::string(command) == "load-ndtom" ? f : inArchive(f));
     }
   }

@@ -1,7 +1,7 @@
 // Version 1 of the cell section: a u64 count, then per cell i32 x y z, f32 log-odds, u32 N and,
 // if N > 0, f64 mean[3] and f64 scatter[6] (xx xy xz yy yz zz). Kept so old files load.
-#include "ndtom/checked_size.h"
 #include "map_codec.h"
+#include "ndtom/checked_size.h"
 
 namespace ndtom::detail {
 namespace {

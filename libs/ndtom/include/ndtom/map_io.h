@@ -12,8 +12,9 @@
 //     u64 byte mask        bit j: byte j of the 512-bit cell mask is non-zero (never 0)
 //     the non-zero bytes   of the cell mask, bit i = cell offsetInBlock() i is known
 //     log-odds             of its known cells in offset order; coding 0: where a run starts,
-//                          varint dictionary index and varint length − 1 (runs continue
-//                          across blocks), coding 1: f32 per cell
+//                          varint 2·index + m (dictionary index; m = 1: longer than one
+//                          cell, then varint length − 2); runs continue across blocks;
+//                          coding 1: f32 per cell
 //     varint S             cells with statistics; if S > 0: ceil(k/8) bytes, bit j: the
 //                          block's j-th known cell (of k) has some
 //     per such cell:       varint 2N + s, f64 mean[3] (relative to the cell centre) and,
@@ -22,7 +23,7 @@
 //
 // Version 1 had, after the options, a u64 cell count and per cell: i32 x, i32 y, i32 z, f32
 // log-odds, u32 N, and if N > 0 the mean and scatter as above (25 B per known cell on lidar
-// maps; version 2 about 6).
+// maps; version 2 5.9).
 //
 // Loading validates everything (checksum, version, sizes, counts against the bytes left,
 // option values, every cell by the rule of cell_rules.h, block order, duplicate cells) and
