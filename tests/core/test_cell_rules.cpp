@@ -83,11 +83,17 @@ TEST(CellRules, LoaderRefusesWhatNoMapCanHold) {
   const CellStats good = threePoints(half);
   ASSERT_EQ(loadError(oneCell({0, 0, 0}, 1.f, good)), "loaded");
 
-  for (const double b : {0.5, 2.0, std::nan(""), -1.0}) {
+  for (const double b : {0.5, 2.0, std::nan(""), -1.0, -0.0}) {
     FileBuilder f(o, "occupancy_enabled", b);
     f.cells(0);
     EXPECT_NE(loadError(f.finish()).find("occupancy_enabled: not 0 or 1"), std::string::npos)
         << "bool stored as " << b;
+  }
+  // -0 as ray mode 0 re-encoded as +0: found by fuzz_map_decoder.
+  for (const double m : {-0.0, 0.5, 2.0}) {
+    FileBuilder f(o, "ray_mode", m);
+    f.cells(0);
+    EXPECT_NE(loadError(f.finish()).find("ray_mode: unknown value"), std::string::npos) << m;
   }
   CellStats bad = good;
   bad.scatter(0, 1) = bad.scatter(1, 0) = 2 * std::sqrt(bad.scatter(0, 0) * bad.scatter(1, 1));

@@ -21,6 +21,11 @@ using detail::ByteWriter;
 constexpr char kMagic[8] = {'N', 'D', 'T', 'O', 'M', 'M', 'A', 'P'};
 constexpr uint32_t kMaxOptions = 256;
 
+/// By bits: −0 would load as false and save as +0, a file that does not load back to itself.
+bool exactly0or1(double v) {
+  return (v == 0.0 && !std::signbit(v)) || v == 1.0;
+}
+
 /// Every option the file stores, with how to read it from and write it into MapOptions.
 struct OptionField {
   const char* name;
@@ -35,7 +40,7 @@ const std::vector<OptionField>& optionFields() {
       {"occupancy_enabled", [](const MapOptions& o) { return o.occupancy.enabled ? 1.0 : 0.0; },
        [](MapOptions& o, double v) {
          // Exactly 0 or 1: 0.5, 2 or NaN would otherwise read as true.
-         if (v != 0.0 && v != 1.0) throw std::invalid_argument("occupancy_enabled: not 0 or 1");
+         if (!exactly0or1(v)) throw std::invalid_argument("occupancy_enabled: not 0 or 1");
          o.occupancy.enabled = v == 1.0;
        }},
       {"p_hit", [](const MapOptions& o) { return o.occupancy.p_hit; },
@@ -52,7 +57,7 @@ const std::vector<OptionField>& optionFields() {
        [](MapOptions& o, double v) { o.insertion.max_range = v; }},
       {"ray_mode", [](const MapOptions& o) { return double(int(o.insertion.ray_mode)); },
        [](MapOptions& o, double v) {
-         if (v != 0.0 && v != 1.0) throw std::invalid_argument("ray_mode: unknown value");
+         if (!exactly0or1(v)) throw std::invalid_argument("ray_mode: unknown value");
          o.insertion.ray_mode = RayMode(int(v));
        }},
       {"min_eigen_ratio", [](const MapOptions& o) { return o.regularization.min_eigen_ratio; },
