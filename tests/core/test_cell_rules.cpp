@@ -53,7 +53,7 @@ std::vector<uint8_t> oneCell(const CellIndex& c, float logodds, const CellStats&
 
 }  // namespace
 
-TEST(CellRules, HandWrittenFileLoadsAndReencodesToTheSameBytes) {
+TEST(CellRules, HandWrittenVersion1FileLoadsAndReencodesToTheSameCells) {
   const MapOptions o;
   const CellStats s = threePoints(0.1);
   FileBuilder f(o);
@@ -62,8 +62,18 @@ TEST(CellRules, HandWrittenFileLoadsAndReencodesToTheSameBytes) {
   f.cell({1, 2, 3}, 1.5f, s);
   const auto file = f.finish();
   const NdtMap map = ndtom::decodeMap(file.data(), file.size());
-  EXPECT_EQ(map.numCells(), 2u);
-  EXPECT_EQ(ndtom::encodeMap(map), file);  // the oracle wrote the cells in block order too
+  ASSERT_EQ(map.numCells(), 2u);
+  const auto far = map.cell({-kTop, kTop, -kTop});
+  const auto near = map.cell({1, 2, 3});
+  ASSERT_TRUE(far && near && near->stats);
+  EXPECT_EQ(far->logodds, -0.5f);
+  EXPECT_EQ(near->stats->n, s.n);
+  EXPECT_EQ(std::memcmp(near->stats->mean.data(), s.mean.data(), 3 * 8), 0);
+  EXPECT_EQ(std::memcmp(near->stats->scatter.data(), s.scatter.data(), 9 * 8), 0);
+  // Saved again in the current format, which loads back to the same bytes.
+  const auto again = ndtom::encodeMap(map);
+  EXPECT_EQ(again[8], ndtom::kMapFormatVersion);
+  EXPECT_EQ(ndtom::encodeMap(ndtom::decodeMap(again.data(), again.size())), again);
 }
 
 // Class 5 of issue #17: checksum-valid files whose values were silently taken.
@@ -73,11 +83,17 @@ TEST(CellRules, LoaderRefusesWhatNoMapCanHold) {
   const CellStats good = threePoints(half);
   ASSERT_EQ(loadError(oneCell({0, 0, 0}, 1.f, good)), "loaded");
 
-  for (const double b : {0.5, 2.0, std::nan(""), -1.0}) {
+  for (const double b : {0.5, 2.0, std::nan(""), -1.0, -0.0}) {
     FileBuilder f(o, "occupancy_enabled", b);
     f.cells(0);
     EXPECT_NE(loadError(f.finish()).find("occupancy_enabled: not 0 or 1"), std::string::npos)
         << "bool stored as " << b;
+  }
+  // -0 as ray mode 0 re-encoded as +0: found by fuzz_map_decoder.
+  for (const double m : {-0.0, 0.5, 2.0}) {
+    FileBuilder f(o, "ray_mode", m);
+    f.cells(0);
+    EXPECT_NE(loadError(f.finish()).find("ray_mode: unknown value"), std::string::npos) << m;
   }
   CellStats bad = good;
   bad.scatter(0, 1) = bad.scatter(1, 0) = 2 * std::sqrt(bad.scatter(0, 0) * bad.scatter(1, 1));

@@ -1,8 +1,8 @@
 // Fuzz target: the .ndtom decoder behind the checksum. The input's last 4 bytes are replaced
 // by the CRC of the rest, so mutations reach the structural checks (with a random CRC almost
 // every input stops at the checksum). Where the decoder accepts, the map must hold exactly
-// the input: its options and cells, read here independently from the layout in map_io.h,
-// and it must encode to bytes that decode to the same map.
+// the input: its options and cells, read here independently from the layouts in map_io.h
+// (versions 1 and 2), and it must encode to bytes that decode to the same map.
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -44,14 +44,92 @@ struct Parsed {
   std::map<ndtom::CellIndex, Cell> cells;
 };
 
+uint64_t varint(Reader& in) {
+  uint64_t v = 0;
+  for (int shift = 0;; shift += 7) {
+    check(shift < 64);
+    const uint8_t b = in.get<uint8_t>();
+    v |= uint64_t(b & 0x7F) << shift;
+    if (!(b & 0x80)) return v;
+  }
+}
+
+// Version 2: blocks with presence masks, log-odds by dictionary and runs.
+void parseBlocks(Reader& in, Parsed& out) {
+  const uint64_t cells = in.get<uint64_t>();
+  const uint64_t blocks = in.get<uint64_t>();
+  const uint8_t coding = in.get<uint8_t>();
+  std::vector<float> dictionary;
+  if (coding == 0)
+    for (uint64_t k = varint(in); k > 0; --k) dictionary.push_back(in.get<float>());
+  float value = 0;
+  uint64_t left = 0;
+  int64_t block[3] = {0, 0, 0};
+  for (uint64_t b = 0; b < blocks; ++b) {
+    for (int64_t& v : block) {
+      const uint64_t z = varint(in);
+      v += int64_t(z >> 1) ^ -int64_t(z & 1);
+    }
+    const uint64_t nonzero = in.get<uint64_t>();
+    std::vector<int> offsets;
+    for (int j = 0; j < 64; ++j)
+      if ((nonzero >> j) & 1) {
+        const uint8_t byte = in.get<uint8_t>();
+        for (int bit = 0; bit < 8; ++bit)
+          if ((byte >> bit) & 1) offsets.push_back(8 * j + bit);
+      }
+    std::vector<Parsed::Cell> block_cells(offsets.size(), Parsed::Cell{0, 0, {}});
+    for (auto& cell : block_cells) {
+      if (coding == 1) {
+        cell.logodds = in.get<float>();
+        continue;
+      }
+      if (left == 0) {
+        const uint64_t head = varint(in);
+        check((head >> 1) < dictionary.size());
+        value = dictionary[head >> 1];
+        left = head & 1 ? varint(in) + 2 : 1;
+      }
+      --left;
+      cell.logodds = value;
+    }
+    std::vector<uint8_t> has((offsets.size() + 7) / 8, 0);
+    if (varint(in) > 0)
+      for (uint8_t& byte : has) byte = in.get<uint8_t>();
+    for (size_t j = 0; j < offsets.size(); ++j) {
+      Parsed::Cell& cell = block_cells[j];
+      if ((has[j / 8] >> (j % 8)) & 1) {
+        const uint64_t head = varint(in);
+        cell.n = uint32_t(head >> 1);
+        for (int k = 0; k < 3; ++k) cell.values[k] = in.get<double>();
+        if (head & 1)
+          for (int k = 3; k < 9; ++k) cell.values[k] = in.get<double>();
+      }
+      const int o = offsets[j];
+      const ndtom::CellIndex c{int32_t(block[0] * 8 + (o & 7)),
+                               int32_t(block[1] * 8 + ((o >> 3) & 7)),
+                               int32_t(block[2] * 8 + (o >> 6))};
+      check(out.cells.emplace(c, cell).second);
+    }
+  }
+  check(left == 0 && out.cells.size() == cells);
+}
+
 Parsed parse(const uint8_t* data, size_t size) {
-  Reader in{data + 12, size - 12};  // magic, version
+  Reader in{data + 8, size - 8};  // magic
+  const uint32_t version = in.get<uint32_t>();
   Parsed out;
   for (uint32_t k = in.get<uint32_t>(); k > 0; --k) {
     std::string name(in.get<uint8_t>(), '\0');
     for (char& c : name) c = char(in.get<uint8_t>());
     out.options[name] = in.get<uint64_t>();
   }
+  if (version == 2) {
+    parseBlocks(in, out);
+    check(in.left == 4);
+    return out;
+  }
+  check(version == 1);
   for (uint64_t k = in.get<uint64_t>(); k > 0; --k) {
     ndtom::CellIndex c{in.get<int32_t>(), in.get<int32_t>(), in.get<int32_t>()};
     Parsed::Cell cell{in.get<float>(), in.get<uint32_t>(), {}};

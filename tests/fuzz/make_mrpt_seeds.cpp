@@ -4,8 +4,9 @@
 // normal build: cmake --build <dir> --target make_mrpt_seeds && <dir>/tests/fuzz/make_mrpt_seeds
 // tests/data/balm-realworld tests/fuzz/corpus/fuzz_mrpt_deserialization
 // The corpus's v0_* seeds were written by an earlier version (insertion options without
-// threads), its likelihood_v0_* seeds by another (likelihood options without the method);
-// this program does not rewrite them.
+// threads), its likelihood_v0_* seeds by another (likelihood options without the method),
+// its format1_* seeds by serialization version 0 (the map in file format 1); this program
+// does not rewrite them.
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
 

@@ -139,13 +139,15 @@ TEST(MapperEndToEnd, TumFramesGiveTheCoreMapAndEveryOutput) {
     EXPECT_GE(seconds, 0) << stage;
     stages += seconds;
     const double peak = jsonNumber(summary, stage, "peak_rss_after_stage_bytes");
-    EXPECT_GE(peak, last_peak) << stage;
-    last_peak = peak;
+    // Within 1 MB: the kernel syncs each thread's RSS counts in batches, so /proc's VmHWM
+    // can read a few pages lower a moment later (seen: 20 kB).
+    EXPECT_GE(peak, last_peak - 1e6) << stage;
+    last_peak = std::max(last_peak, peak);
   }
   EXPECT_GT(jsonNumber(summary, "insert", "stages_s"), 0);
   EXPECT_LE(stages, jsonNumber(summary, "total_s"));
   EXPECT_GT(stages, 0.5 * jsonNumber(summary, "total_s"));
-  EXPECT_LE(last_peak, jsonNumber(summary, "peak_rss_bytes"));
+  EXPECT_LE(last_peak, jsonNumber(summary, "peak_rss_bytes") + 1e6);
   // No --threads: as many as the machine has cores.
   EXPECT_EQ(jsonNumber(summary, "threads"),
             std::clamp(double(std::thread::hardware_concurrency()), 1.0, 256.0));

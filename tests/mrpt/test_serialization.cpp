@@ -157,7 +157,7 @@ TEST(Serialization, UnknownVersionAndDamagedDataThrow) {
   const auto at = std::search(bytes.begin(), bytes.end(), name.begin(), name.end());
   ASSERT_NE(at, bytes.end());
   const size_t version_at = size_t(at - bytes.begin()) + name.size();
-  ASSERT_EQ(bytes[version_at], 0) << "the current version is 0";
+  ASSERT_EQ(bytes[version_at], 1) << "the current version is 1";
 
   auto readBack = [](std::vector<uint8_t> data) {
     mrpt::io::CMemoryStream in;
@@ -383,12 +383,25 @@ TEST(Serialization, ArchiveOfThePreviousVersionLoadsWithOneThread) {
   EXPECT_TRUE(map.renderOptions.show_free_cells);
   EXPECT_EQ(map.ndtMap().numCells(), 97u);
   EXPECT_EQ(map.ndtMap().numGaussians(), 46u);
-  const std::vector<uint8_t> map_data = ndtom::encodeMap(map.ndtMap());
-  // The stored map as is, then MRPT's one-byte end flag.
-  EXPECT_EQ(offsetOf(old, map_data) + map_data.size() + 1, old.size());
+  // The stored map, in file format version 1, then MRPT's one-byte end flag.
+  const std::string magic = "NDTOMMAP";
+  const size_t map_at = offsetOf(old, std::vector<uint8_t>(magic.begin(), magic.end()));
+  ASSERT_EQ(old[map_at + 8], 1) << "file format version";
+  const std::vector<uint8_t> old_map_data(old.begin() + long(map_at), old.end() - 1);
+  EXPECT_EQ(ndtom::encodeMap(ndtom::decodeMap(old_map_data.data(), old_map_data.size())),
+            ndtom::encodeMap(map.ndtMap()));
 
-  // Written again the three option blocks are version 1, and otherwise the same bytes.
+  // Written again the map is version 1 and holds the current file format; the three option
+  // blocks are version 1, and otherwise the same bytes.
   std::vector<uint8_t> again = archiveBytes(map);
+  const std::vector<uint8_t> map_data = ndtom::encodeMap(map.ndtMap());
+  ASSERT_EQ(offsetOf(again, map_data) + map_data.size() + 1, again.size());
+  EXPECT_EQ(again[insertion - 1], 1) << "map version";
+  again.erase(again.end() - 1 - long(map_data.size()), again.end() - 1);
+  again.insert(again.end() - 1, old_map_data.begin(), old_map_data.end());
+  uint64_t size = old_map_data.size();  // the size field before the map data
+  std::memcpy(&again[again.size() - 1 - old_map_data.size() - 8], &size, 8);
+  again[insertion - 1] = 0;
   ASSERT_EQ(again.size(), old.size() + 4 + 16 + 4);
   const size_t likelihood = insertion + kInsertionOptionsV1;
   const size_t render = likelihood + kLikelihoodOptionsV1;

@@ -30,12 +30,13 @@ ndtom::CellStats threePoints() {
   return ndtom::CellStats::fromPoints({{0.01, 0.02, -0.03}, {-0.05, 0.04, 0.01}, {0.02, 0, 0}});
 }
 
-// A small real map's file: header, options, cells.
+// A small real map's file: header, options, cells. `count_at`: the u64 cell count, followed
+// by the u64 block count and the u8 log-odds coding (the empty map's file ends there).
 std::vector<uint8_t> smallFile(size_t* count_at) {
   ndtom::NdtMap map;
   map.insertScan(pointsAround({0, 0, 0}, 2, 300, 3), {0.05, 0.05, 0.05});
   const auto bytes = ndtom::encodeMap(map);
-  *count_at = ndtom::encodeMap(ndtom::NdtMap()).size() - 12;
+  *count_at = ndtom::encodeMap(ndtom::NdtMap()).size() - 4 - 17;
   return bytes;
 }
 
@@ -78,8 +79,9 @@ std::vector<Case> loaderCountCases(const Context& c) {
   CaseSet set(c, "3 loader allocations", "loader");
   size_t count_at = 0;
   const std::vector<uint8_t> small = smallFile(&count_at);
-  const std::vector<uint8_t> head(small.begin(), small.begin() + std::ptrdiff_t(count_at));
-  // The red team's file: the count overlaps the checksum (remaining() - 4 underflowed).
+  // The red team's file: a count overlaps the checksum (remaining() - 4 underflowed); in
+  // format 2, the block count after the cell count.
+  const std::vector<uint8_t> head(small.begin(), small.begin() + std::ptrdiff_t(count_at + 8));
   for (const uint32_t low : {0u, 1u, 2u, 100u, 5000u, 1000000u, 0x7FFFFFFFu, 0xFFFFFFFFu}) {
     std::vector<uint8_t> f = head;
     for (int i = 0; i < 4; ++i) f.push_back(uint8_t(low >> (8 * i)));
@@ -90,17 +92,29 @@ std::vector<Case> loaderCountCases(const Context& c) {
                    std::string(command) + ", count overlaps the CRC, low " + std::to_string(low),
                    command, ".x", std::string(command) == "load-ndtom" ? f : inArchive(f));
   }
-  uint64_t real_count;
-  std::memcpy(&real_count, &small[count_at], 8);
-  for (const uint64_t count :
-       {real_count + 1, real_count + 1000, uint64_t(1) << 31, uint64_t(1700000000),
-        uint64_t(1) << 32, uint64_t(1) << 40, uint64_t(1) << 62, ~uint64_t(0)}) {
-    std::vector<uint8_t> f = small;
-    std::memcpy(&f[count_at], &count, 8);
-    f = withCrc(f);
-    for (const char* command : {"load-ndtom", "load-ndtommap"})
-      addProbeCase(set, std::string(command) + ", cell count " + std::to_string(count), command,
-                   ".x", std::string(command) == "load-ndtom" ? f : inArchive(f));
+  for (const auto& [field, at] : {std::pair{"cell", count_at}, std::pair{"block", count_at + 8}}) {
+    uint64_t real_count;
+    std::memcpy(&real_count, &small[at], 8);
+    for (const uint64_t count : {real_count + 1, real_count - 1, real_count + 1000,
+                                 uint64_t(1) << 31, uint64_t(1700000000), uint64_t(1) << 32,
+                                 uint64_t(1) << 40, uint64_t(1) << 62, ~uint64_t(0)}) {
+      std::vector<uint8_t> f = small;
+      std::memcpy(&f[at], &count, 8);
+      f = withCrc(f);
+      for (const char* command : {"load-ndtom", "load-ndtommap"})
+        addProbeCase(set, std::string(command) + ", " + field + " count " + std::to_string(count),
+                     command, ".x", std::string(command) == "load-ndtom" ? f : inArchive(f));
+    }
+  }
+  // The dictionary size, a varint after the coding byte: 2^63 and 2^31 values.
+  for (const uint64_t size : {uint64_t(1) << 63, uint64_t(1) << 31}) {
+    std::vector<uint8_t> f(small.begin(), small.begin() + std::ptrdiff_t(count_at + 17));
+    uint64_t v = size;
+    for (; v >= 0x80; v >>= 7) f.push_back(uint8_t(v | 0x80));
+    f.push_back(uint8_t(v));
+    f.insert(f.end(), small.begin() + std::ptrdiff_t(count_at + 18), small.end());
+    addProbeCase(set, "dictionary size " + std::to_string(size), "load-ndtom", ".ndtom",
+                 withCrc(f));
   }
   for (const uint32_t options : {12u, 256u, 257u, 0xFFFFFFFFu}) {
     std::vector<uint8_t> f = small;

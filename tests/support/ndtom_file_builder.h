@@ -1,6 +1,7 @@
-// A .ndtom file written field by field from the layout documented in map_io.h, with a
-// correct checksum: an oracle independent of the encoder, for tests and the red team's
-// hostile files.
+// A .ndtom file of format version 1 (one record per cell, still read: map_io.h) written field
+// by field, with a correct checksum: an oracle independent of the encoder, for tests and the
+// red team's hostile files. Version 1 keeps every cell value in a fixed place, so a hostile
+// value is easy to plant; the loader applies the same cell rule to both versions.
 #pragma once
 
 #include <cstdint>

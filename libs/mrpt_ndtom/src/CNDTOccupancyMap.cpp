@@ -282,11 +282,13 @@ void CNDTOccupancyMap::internal_clear() {
   invalidateLookup();
 }
 
-// Version 0: insertion, likelihood and render options, genericMapParams, then the map in
-// the core's file format (versioned and checksummed on its own). Each options block has its
-// own version byte: a new option bumps that (insertion options 1 added threads), not this.
+// Insertion, likelihood and render options, genericMapParams, then the map in the core's file
+// format (versioned and checksummed on its own). Version 0 held format version 1 (a record per
+// cell); version 1 holds the compact format 2 (presence masks, log-odds runs). The core reads
+// both, so both versions load the same way. Each options block has its own version byte: a
+// new option bumps that (insertion options 1 added threads), not this.
 uint8_t CNDTOccupancyMap::serializeGetVersion() const {
-  return 0;
+  return 1;
 }
 
 void CNDTOccupancyMap::serializeTo(mrpt::serialization::CArchive& out) const {
@@ -309,7 +311,8 @@ void CNDTOccupancyMap::serializeTo(mrpt::serialization::CArchive& out) const {
 // everything is read and checked first.
 void CNDTOccupancyMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version) {
   switch (version) {
-    case 0: {
+    case 0:
+    case 1: {
       TInsertionOptions insertion;
       TLikelihoodOptions likelihood;
       TRenderOptions render;

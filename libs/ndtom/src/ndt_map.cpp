@@ -229,7 +229,10 @@ NdtMap NdtMap::coarsened(int factor) const {
   coarse_options.resolution = options_.resolution * factor;
   NdtMap coarse(coarse_options);
   const double r = options_.resolution;
-  forEachCell([&](const CellView& fine) {
+  // In block order: a coarse cell spanning blocks merges its fine cells in an order that must
+  // not depend on the hash table's history (RCU is exact but not associative in floating
+  // point), so equal maps, e.g. a map and its saved and loaded copy, coarsen to equal bits.
+  forEachCellOrdered([&](const CellView& fine) {
     const CellIndex index{floorDiv(fine.index.x, factor), floorDiv(fine.index.y, factor),
                           floorDiv(fine.index.z, factor)};
     const auto existing = coarse.cell(index);

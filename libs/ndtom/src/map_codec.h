@@ -1,0 +1,24 @@
+// The cell sections of the map file, one codec per format version (map_io.h documents the
+// layouts). map_io.cpp writes and checks what surrounds them: magic, version, options, CRC.
+#pragma once
+
+#include <cstdint>
+
+#include "byte_io.h"
+#include "ndtom/ndt_map.h"
+
+namespace ndtom::detail {
+
+/// Version 2: blocks with presence masks, log-odds by dictionary and runs (map_codec_blocks.cpp).
+void encodeBlocks(const NdtMap& map, ByteWriter& out);
+void decodeBlocks(ByteReader& in, NdtMap& map);
+
+/// Version 1: one record per cell (map_codec_v1.cpp); read only.
+void decodeCellRecords(ByteReader& in, NdtMap& map);
+
+/// Checks a decoded cell by the rule of cell_rules.h and sets it; throws MapFormatError for a
+/// bad or duplicate cell, MemoryBudgetError (naming `cells`, the file's count) for a full map.
+void setDecodedCell(ByteReader& in, NdtMap& map, const CellIndex& index, float logodds,
+                    const CellStats& stats, uint64_t cells);
+
+}  // namespace ndtom::detail
