@@ -39,5 +39,5 @@ for run in $(seq 1 "$runs"); do
     echo "$run,$system,$s,$mb,$(awk -v a="$s" -v b="$g_s" 'BEGIN{printf "%.3f", a / b}')" >> "$csv"
   done
 done
-grep -o '"stages_s": {[^}]*}' "$work/ndtom.summary.json" | tr -d '\n' | sed 's/^/last ndtom-map run, /'; echo
-column -s, -t "$csv"
+python3 -c 'import json, sys; t = json.load(open(sys.argv[1]))["time"]["stages_s"]; print("last ndtom-map run, stages (s):", ", ".join(f"{k} {v:.2f}" for k, v in t.items()))' "$work/ndtom.summary.json"
+tr , '\t' < "$csv"
