@@ -302,9 +302,12 @@ void CNDTOccupancyMap::serializeTo(mrpt::serialization::CArchive& out) const {
   const ndtom::MapOptions wanted = mapOptionsOf(insertionOptions);
   if (!sameOptions(wanted, m_map.options())) pending = mapUnder(m_map, wanted);
   const ndtom::NdtMap& map = pending ? *pending : m_map;
-  // Streamed: no copy of the whole encoding (a map's bytes can be several times its memory).
-  out << uint64_t(ndtom::encodedMapSize(map));
-  ndtom::encodeMap(map, [&](const uint8_t* data, size_t size) { out.WriteBuffer(data, size); });
+  // Encoded once, then sized and written: file format 2 takes a fraction of the map's memory
+  // (5.9 B per known cell against ~17 on the lidar map), and sizing it by a second encoding
+  // cost as much as the first.
+  const std::vector<uint8_t> bytes = ndtom::encodeMap(map);
+  out << uint64_t(bytes.size());
+  out.WriteBuffer(bytes.data(), bytes.size());
 }
 
 // Corrupt data throws a std::exception naming the problem and leaves the map as it was:
