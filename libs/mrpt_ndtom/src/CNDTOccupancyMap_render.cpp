@@ -76,12 +76,12 @@ void CNDTOccupancyMap::getAsOctoMapVoxels(mrpt::opengl::COctoMapVoxels& gl) cons
                  : (state != ndtom::CellState::Free || !o.generate_free_voxels))
       return;
     const Eigen::Vector3d centre = m_map.geometry().cellCenter(c.index);
-    const double occ = 1.0 / (1.0 + std::exp(-double(c.logodds)));
+    const double occ = ndtom::occupancyProbability(c.logodds);
     const double height = (centre.z() - box.min.z) / z_span;
-    gl.push_back_Voxel(occupied ? VOXEL_SET_OCCUPIED : VOXEL_SET_FREESPACE,
-                       {mrpt::math::TPoint3Df(float(centre.x()), float(centre.y()),
-                                              float(centre.z())),
-                        side, voxelColor(gl, occ, height)});
+    gl.push_back_Voxel(
+        occupied ? VOXEL_SET_OCCUPIED : VOXEL_SET_FREESPACE,
+        {mrpt::math::TPoint3Df(float(centre.x()), float(centre.y()), float(centre.z())), side,
+         voxelColor(gl, occ, height)});
   });
   if (gl.isCubeTransparencyEnabled()) gl.sort_voxels_by_z();
   gl.setBoundingBox(box.min, box.max);

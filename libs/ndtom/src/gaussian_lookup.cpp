@@ -3,6 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 
+#include "ndtom/map_queries.h"
+
 namespace ndtom {
 namespace {
 
@@ -29,9 +31,10 @@ PreparedGaussian prepare(const Gaussian& g) {
 
 GaussianLookup::GaussianLookup(const NdtMap& map, const LookupOptions& options)
     : geometry_(map.geometry()) {
-  const bool gate = options.occupied_only && map.options().occupancy.enabled;
   map.forEachCell([&](const CellView& c) {
-    if (!c.stats || !c.stats->hasGaussian() || (gate && !(c.logodds > 0.f))) return;
+    const bool wanted =
+        options.occupied_only ? isOccupiedGaussian(map, c) : c.stats && c.stats->hasGaussian();
+    if (!wanted) return;
     gaussians_.push_back(prepare(map.gaussianOf(c, /*regularized=*/true)));
   });
   std::sort(gaussians_.begin(), gaussians_.end(),

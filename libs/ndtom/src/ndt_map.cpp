@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "ndtom/cell_rules.h"
+#include "ndtom/map_queries.h"
 #include "scan_update.h"
 
 namespace ndtom {
@@ -107,7 +108,7 @@ std::optional<CellView> NdtMap::cellAt(const Eigen::Vector3d& point) const {
 std::optional<double> NdtMap::occupancyProbability(const Eigen::Vector3d& point) const {
   const auto c = cellAt(point);
   if (!c) return std::nullopt;
-  return 1.0 - 1.0 / (1.0 + std::exp(double(c->logodds)));
+  return ndtom::occupancyProbability(c->logodds);
 }
 
 Gaussian NdtMap::gaussianOf(const CellView& c, bool regularized) const {

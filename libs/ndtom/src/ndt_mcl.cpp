@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "ndtom/map_queries.h"
 #include "registration/scan_levels.h"
 
 namespace ndtom {
@@ -145,10 +146,9 @@ ScanNdt buildScanNdt(const std::vector<Eigen::Vector3d>& points, const ScanNdtOp
 
 NdtMclMap::NdtMclMap(const NdtMap& map) : geometry_(map.geometry()) {
   // As GaussianLookup's occupied_only: free space and vanished objects attract nothing.
-  const bool gate = map.options().occupancy.enabled;
   std::vector<CellView> cells;
   map.forEachCell([&](const CellView& c) {
-    if (c.stats && c.stats->hasGaussian() && (!gate || c.logodds > 0.f)) cells.push_back(c);
+    if (isOccupiedGaussian(map, c)) cells.push_back(c);
   });
   std::sort(cells.begin(), cells.end(),
             [](const CellView& a, const CellView& b) { return a.index < b.index; });

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <optional>
 
 #include "ndtom/cell_index.h"
@@ -11,6 +12,11 @@
 namespace ndtom {
 
 enum class CellState { Unknown, Free, Occupied };
+
+/// p(m | z_1:t) of a cell from its log-odds (Eq. 12 inverted).
+inline double occupancyProbability(float logodds) {
+  return 1.0 - 1.0 / (1.0 + std::exp(double(logodds)));
+}
 
 /// The one occupancy rule: with occupancy on, log-odds > 0 is occupied, < 0 free, 0 (or a
 /// never-seen cell) unknown; with occupancy off (Recursive NDT) a cell with points is
