@@ -29,18 +29,21 @@ void validate(const CorrespondenceOptions& o) {
   if (o.stride < 1) fail("stride", double(o.stride), "must be >= 1");
 }
 
-Eigen::Vector3d projectOntoInPlane(const PreparedGaussian& g, const Eigen::Vector3d& point,
-                                   double& squared_mahalanobis) {
+double squaredMahalanobisInPlane(const PreparedGaussian& g, const Eigen::Vector3d& point) {
+  const Eigen::Matrix2d information = g.covariance.topLeftCorner<2, 2>().inverse();
+  const Eigen::Vector2d d = (point - g.mean).head<2>();
+  return d.dot(information * d);
+}
+
+Eigen::Vector3d projectOntoInPlane(const PreparedGaussian& g, const Eigen::Vector3d& point) {
   const Eigen::Matrix2d cov = g.covariance.topLeftCorner<2, 2>();
   const Eigen::Vector2d d = (point - g.mean).head<2>();
   // Closed-form smallest eigenvalue of a symmetric 2x2 matrix.
   const double half_trace = 0.5 * (cov(0, 0) + cov(1, 1));
   const double half_gap = std::hypot(0.5 * (cov(0, 0) - cov(1, 1)), cov(0, 1));
   const double lambda_min = half_trace - half_gap;
-  const Eigen::Matrix2d information = cov.inverse();
-  squared_mahalanobis = d.dot(information * d);
   Eigen::Vector3d target = point;
-  target.head<2>() -= lambda_min * (information * d);
+  target.head<2>() -= lambda_min * (cov.inverse() * d);
   return target;
 }
 
@@ -61,21 +64,20 @@ CorrespondenceResult findCorrespondences(const GaussianLookup& lookup,
     const PreparedGaussian* best = nullptr;
     double best_maha = std::numeric_limits<double>::infinity();
     uint32_t best_index = 0;
-    Eigen::Vector3d best_target;
     for (const auto& c : candidates) {
       const PreparedGaussian& g = lookup.gaussians()[c.index];
-      double maha;
-      const Eigen::Vector3d target =
-          options.planar ? projectOntoInPlane(g, p, maha) : (maha = squaredMahalanobis(g, p), p);
+      const double maha =
+          options.planar ? squaredMahalanobisInPlane(g, p) : squaredMahalanobis(g, p);
       if (maha < best_maha) {  // candidates come nearest first: ties keep the nearer mean
         best = &g;
         best_maha = maha;
         best_index = c.index;
-        best_target = options.planar ? target : projectOnto(g, p);
       }
     }
     if (!best) continue;
-    Correspondence pair{uint32_t(i), best_index, best_target, 0, best_maha};
+    const Eigen::Vector3d target =
+        options.planar ? projectOntoInPlane(*best, p) : projectOnto(*best, p);
+    Correspondence pair{uint32_t(i), best_index, target, 0, best_maha};
     pair.squared_distance = (p - pair.target).squaredNorm();
     if (pair.squared_distance <= max_sq) result.pairs.push_back(pair);
   }

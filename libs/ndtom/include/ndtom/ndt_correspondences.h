@@ -58,10 +58,11 @@ inline Eigen::Vector3d projectOnto(const PreparedGaussian& g, const Eigen::Vecto
   return point - g.projection * (point - g.mean);
 }
 
-/// The same in the x-y plane with the marginal covariance Σxy: t_xy = p_xy − λmin(Σxy)·Σxy⁻¹·
-/// (p − μ)_xy, t_z = p_z; `squared_mahalanobis` gets (p − μ)_xyᵀ Σxy⁻¹ (p − μ)_xy.
-Eigen::Vector3d projectOntoInPlane(const PreparedGaussian& g, const Eigen::Vector3d& point,
-                                   double& squared_mahalanobis);
+/// (p − μ)_xyᵀ Σxy⁻¹ (p − μ)_xy, with Σxy the x-y marginal of g's covariance.
+double squaredMahalanobisInPlane(const PreparedGaussian& g, const Eigen::Vector3d& point);
+
+/// The paired point in the x-y plane: t_xy = p_xy − λmin(Σxy)·Σxy⁻¹·(p − μ)_xy, t_z = p_z.
+Eigen::Vector3d projectOntoInPlane(const PreparedGaussian& g, const Eigen::Vector3d& point);
 
 /// Correspondences of world-frame points. Throws on bad options.
 CorrespondenceResult findCorrespondences(const GaussianLookup& lookup,
