@@ -141,15 +141,7 @@ CellStats readStats(ByteReader& in) {
   CellStats s;
   s.n = uint32_t(n);
   for (int a = 0; a < 3; ++a) s.mean[a] = in.f64();
-  if (head & 1) {
-    Eigen::Matrix3d& m = s.scatter;
-    m(0, 0) = in.f64();
-    m(0, 1) = m(1, 0) = in.f64();
-    m(0, 2) = m(2, 0) = in.f64();
-    m(1, 1) = in.f64();
-    m(1, 2) = m(2, 1) = in.f64();
-    m(2, 2) = in.f64();
-  }
+  if (head & 1) s.scatter = readScatter(in);
   return s;
 }
 

@@ -24,13 +24,7 @@ void decodeCellRecords(ByteReader& in, NdtMap& map) {
     stats.n = in.u32();
     if (stats.n > 0) {
       for (int a = 0; a < 3; ++a) stats.mean[a] = in.f64();
-      Eigen::Matrix3d& s = stats.scatter;
-      s(0, 0) = in.f64();
-      s(0, 1) = s(1, 0) = in.f64();
-      s(0, 2) = s(2, 0) = in.f64();
-      s(1, 1) = in.f64();
-      s(1, 2) = s(2, 1) = in.f64();
-      s(2, 2) = in.f64();
+      stats.scatter = readScatter(in);
     }
     setDecodedCell(in, map, index, logodds, stats, cells);
   }
