@@ -73,7 +73,7 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
                                              const OutputSettings& settings, OutputFiles& out,
                                              StageTimes& times) {
   const ndtom::NdtMap& ndt = map.ndtMap();
-  // Maps are streamed: a map's bytes can be several times its memory.
+  // Maps are streamed straight into their files: no copy of the encoding.
   const auto encode = [](const ndtom::NdtMap& m) {
     return [&m](const ndtom::FileSink& sink) {
       ndtom::encodeMap(m, [&](const uint8_t* data, size_t size) { sink(data, size); });
@@ -103,10 +103,9 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
   if (settings.coarse < 2) return std::nullopt;
   return times.time("coarse_map", [&] {
     const ndtom::NdtMap coarse = ndt.coarsened(settings.coarse);
-    out.write("coarse_map", ".coarse" + std::to_string(settings.coarse) + ".ndtom",
-              encode(coarse));
-    return std::optional<CoarseMapInfo>(CoarseMapInfo{
-        settings.coarse, coarse.options().resolution, coarse.numCells(), coarse.numGaussians()});
+    out.write("coarse_map", ".coarse" + std::to_string(settings.coarse) + ".ndtom", encode(coarse));
+    return std::optional<CoarseMapInfo>(CoarseMapInfo{settings.coarse, coarse.options().resolution,
+                                                      coarse.numCells(), coarse.numGaussians()});
   });
 }
 

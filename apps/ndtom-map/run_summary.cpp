@@ -95,7 +95,7 @@ void writeMapAndCosts(JsonWriter& j, const RunSummary& s) {
   j.field("total_s", s.total_seconds);
   if (s.stages) {
     j.beginObject("stages_s");
-    for (const auto& [stage, seconds] : s.stages->seconds()) j.field(stage, seconds);
+    for (const auto& stage : s.stages->stages()) j.field(stage.name, stage.seconds);
     j.endObject();
   }
   j.endObject();
@@ -105,7 +105,7 @@ void writeMapAndCosts(JsonWriter& j, const RunSummary& s) {
   j.field("peak_rss_bytes", s.peak_rss);
   if (s.stages) {
     j.beginObject("peak_rss_after_stage_bytes");
-    for (const auto& [stage, bytes] : s.stages->peakRss()) j.field(stage, bytes);
+    for (const auto& stage : s.stages->stages()) j.field(stage.name, stage.peak_rss_bytes);
     j.endObject();
   }
   j.endObject();
@@ -183,10 +183,10 @@ std::string summaryText(const RunSummary& s) {
                 p.rejected_too_far, 1e3 * median(m.insert_seconds),
                 1e3 * percentile(m.insert_seconds, 0.95), s.total_seconds, megabytes(s.peak_rss));
   text += buffer;
-  if (s.stages && !s.stages->seconds().empty()) {
+  if (s.stages && !s.stages->stages().empty()) {
     text += "  stages ";
-    for (const auto& [stage, seconds] : s.stages->seconds()) {
-      std::snprintf(buffer, sizeof buffer, " %s %.2f s,", stage.c_str(), seconds);
+    for (const auto& stage : s.stages->stages()) {
+      std::snprintf(buffer, sizeof buffer, " %s %.2f s,", stage.name.c_str(), stage.seconds);
       text += buffer;
     }
     text.back() = '\n';

@@ -5,7 +5,6 @@
 
 #include <chrono>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "ndtom_apps/process_memory.h"
@@ -14,9 +13,14 @@ namespace ndtom::mapper {
 
 class StageTimes {
  public:
+  struct Stage {
+    std::string name;
+    double seconds = 0;         ///< wall time
+    size_t peak_rss_bytes = 0;  ///< the process's peak resident memory (VmHWM) at its end
+  };
+
   void add(const std::string& stage, double seconds) {
-    seconds_.emplace_back(stage, seconds);
-    peak_rss_.emplace_back(stage, apps::peakRssBytes());
+    stages_.push_back({stage, seconds, apps::peakRssBytes()});
   }
 
   /// Runs `f` and adds its wall time under `stage`; returns what f returns.
@@ -27,20 +31,17 @@ class StageTimes {
       const std::string& stage;
       std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
       ~Record() {
-        times.add(stage, std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-                             .count());
+        times.add(stage,
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       }
     } record{*this, stage};
     return f();
   }
 
-  const std::vector<std::pair<std::string, double>>& seconds() const { return seconds_; }
-  /// Peak resident bytes of the process at the end of each stage (never decreasing).
-  const std::vector<std::pair<std::string, size_t>>& peakRss() const { return peak_rss_; }
+  const std::vector<Stage>& stages() const { return stages_; }
 
  private:
-  std::vector<std::pair<std::string, double>> seconds_;
-  std::vector<std::pair<std::string, size_t>> peak_rss_;
+  std::vector<Stage> stages_;
 };
 
 }  // namespace ndtom::mapper
