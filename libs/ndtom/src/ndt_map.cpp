@@ -149,6 +149,40 @@ void NdtMap::clear() {
   stats_bytes_ = 0;
 }
 
+NdtMap NdtMap::extractBlocks(const std::function<bool(const CellIndex& block)>& take) {
+  NdtMap out(options_);
+  auto& blocks = grid_.blocks();
+  for (auto it = blocks.begin(); it != blocks.end();) {
+    if (!take(it->first)) {
+      ++it;
+      continue;
+    }
+    const size_t cells = it->second->known.count(), bytes = statsBytes(it->second->stats);
+    out.grid_.blocks().emplace(it->first, std::move(it->second));
+    out.num_cells_ += cells;
+    out.stats_bytes_ += bytes;
+    num_cells_ -= cells;
+    stats_bytes_ -= bytes;
+    it = blocks.erase(it);
+  }
+  blocks.rehash(0);  // the buckets of the blocks that left are memory too
+  touch();
+  out.touch();
+  return out;
+}
+
+void NdtMap::absorbBlocks(NdtMap&& other) {
+  if (other.options_.resolution != options_.resolution)
+    throw std::invalid_argument("absorbBlocks: the maps' resolutions differ");
+  for (const auto& [index, block] : other.grid_.blocks())
+    if (grid_.find(index)) throw std::invalid_argument("absorbBlocks: a block is in both maps");
+  for (auto& [index, block] : other.grid_.blocks()) grid_.blocks().emplace(index, std::move(block));
+  num_cells_ += other.num_cells_;
+  stats_bytes_ += other.stats_bytes_;
+  other.clear();
+  touch();
+}
+
 void NdtMap::checkRoomForBlocks(size_t new_blocks, const char* what) const {
   const uint64_t need = grid_.memoryBytes() + new_blocks * grid_.kBytesPerBlock;
   if (need > options_.insertion.memory_budget)

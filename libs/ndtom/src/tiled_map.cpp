@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include "ndtom/atomic_file.h"
 #include "ndtom/block_grid.h"
@@ -50,6 +51,59 @@ void copyCell(const CellView& c, NdtMap& to) {
 
 }  // namespace
 
+CellIndex tileOfBlock(const CellIndex& block, int tile_blocks) {
+  return tileOf(block, tile_blocks);
+}
+
+void saveTiledMap(const MapOptions& map_options, const std::string& path, int tile_blocks,
+                  const std::function<void(const TileSink&)>& fill) {
+  if (tile_blocks < 1 || tile_blocks > kMaxTileBlocks)
+    throw std::invalid_argument("tiled map: tile_blocks " + std::to_string(tile_blocks) +
+                                " is not in 1.." + std::to_string(kMaxTileBlocks));
+  const int tile_cells = tile_blocks * kBlockEdge;
+  std::string header(kMagic, sizeof kMagic);
+  putU32(header, kVersion);
+  putU32(header, uint32_t(tile_blocks));
+  const std::string options = optionsBlock(map_options);
+  putU64(header, options.size());
+  header += options;
+  writeFileAtomically(path, [&](const FileSink& sink) {
+    sink(header.data(), header.size());
+    std::string index;
+    uint64_t offset = header.size(), count = 0;
+    std::optional<CellIndex> last;
+    fill([&](const CellIndex& key, const NdtMap& tile) {
+      if (last && !(*last < key)) throw std::invalid_argument("tiled map: tiles out of order");
+      if (optionsBlock(tile.options()) != options)
+        throw std::invalid_argument("tiled map: a tile with other options than the map");
+      tile.forEachCell([&](const CellView& c) {
+        if (tileOf(c.index, tile_cells) != key)
+          throw std::invalid_argument("tiled map: a cell outside its tile");
+      });
+      last = key;
+      if (tile.isEmpty()) return;
+      uint64_t size = 0;
+      encodeMap(tile, [&](const uint8_t* data, size_t n) {
+        sink(data, n);
+        size += n;
+      });
+      for (const int32_t k : {key.x, key.y, key.z}) putU32(index, uint32_t(k));
+      putU64(index, offset);
+      putU64(index, size);
+      putU64(index, tile.numCells());
+      offset += size;
+      ++count;
+    });
+    std::string tail;
+    putU64(tail, count);
+    tail += index;
+    putU64(tail, offset);
+    const uint32_t crc = crc32(tail.data(), tail.size(), crc32(header.data(), header.size()));
+    putU32(tail, crc);
+    sink(tail.data(), tail.size());
+  });
+}
+
 void saveTiledMap(const NdtMap& map, const std::string& path, int tile_blocks) {
   if (tile_blocks < 1 || tile_blocks > kMaxTileBlocks)
     throw std::invalid_argument("tiled map: tile_blocks " + std::to_string(tile_blocks) +
@@ -62,35 +116,11 @@ void saveTiledMap(const NdtMap& map, const std::string& path, int tile_blocks) {
     if (it == tiles.end()) it = tiles.emplace(key, NdtMap(map.options())).first;
     copyCell(c, it->second);
   });
-
-  std::string header(kMagic, sizeof kMagic);
-  putU32(header, kVersion);
-  putU32(header, uint32_t(tile_blocks));
-  const std::string options = optionsBlock(map.options());
-  putU64(header, options.size());
-  header += options;
-  writeFileAtomically(path, [&](const FileSink& sink) {
-    sink(header.data(), header.size());
-    std::string index;
-    putU64(index, tiles.size());
-    uint64_t offset = header.size();
+  saveTiledMap(map.options(), path, tile_blocks, [&](const TileSink& sink) {
     for (auto& [key, tile] : tiles) {
       tile.shrinkToFit();
-      uint64_t size = 0;
-      encodeMap(tile, [&](const uint8_t* data, size_t n) {
-        sink(data, n);
-        size += n;
-      });
-      for (const int32_t k : {key.x, key.y, key.z}) putU32(index, uint32_t(k));
-      putU64(index, offset);
-      putU64(index, size);
-      putU64(index, tile.numCells());
-      offset += size;
+      sink(key, tile);
     }
-    putU64(index, offset);
-    const uint32_t crc = crc32(index.data(), index.size(), crc32(header.data(), header.size()));
-    putU32(index, crc);
-    sink(index.data(), index.size());
   });
 }
 

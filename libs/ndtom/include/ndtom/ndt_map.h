@@ -10,6 +10,7 @@
 #include <array>
 #include <bitset>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -108,6 +109,18 @@ class NdtMap {
   NdtMap coarsened(int factor) const;
 
   void clear();
+
+  /// Calls f(coordinates) for every block of kBlockEdge³ cells (in no particular order).
+  template <class F>
+  void forEachBlock(F&& f) const {
+    for (const auto& entry : grid_.blocks()) f(entry.first);
+  }
+  /// Moves the blocks whose coordinates `take` accepts into a new map with these options:
+  /// part of a map kept out of memory (out_of_core_map.h). This map keeps the rest.
+  NdtMap extractBlocks(const std::function<bool(const CellIndex& block)>& take);
+  /// Moves every block of `other` into this map. Throws std::invalid_argument, moving
+  /// nothing, if the resolutions differ or a block is in both.
+  void absorbBlocks(NdtMap&& other);
 
   // --- Low level: restoring a map from storage ------------------------------------------
 

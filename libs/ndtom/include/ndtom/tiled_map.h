@@ -20,6 +20,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,18 @@ struct TileInfo {
 /// Throws std::invalid_argument for tile_blocks outside 1..4096, std::runtime_error naming the
 /// path if it cannot be written.
 void saveTiledMap(const NdtMap& map, const std::string& path, int tile_blocks);
+
+/// Receives the tiles of a map being written, one at a time in ascending tile order, each
+/// holding only cells of that tile (an empty one is skipped).
+using TileSink = std::function<void(const CellIndex& tile, const NdtMap& cells)>;
+/// The same, for a map that is never whole in memory: `fill` hands the tiles to the sink.
+/// Throws std::invalid_argument for tiles out of order, with other options or with cells
+/// outside the tile (nothing is written then).
+void saveTiledMap(const MapOptions& options, const std::string& path, int tile_blocks,
+                  const std::function<void(const TileSink&)>& fill);
+
+/// The tile of a block, for tiles of `tile_blocks` blocks a side.
+CellIndex tileOfBlock(const CellIndex& block, int tile_blocks);
 
 class TiledMapFile {
  public:

@@ -1,0 +1,100 @@
+// Building out of core (out_of_core_map.h) through a drive in the procedural city: with a
+// resident budget of a tenth of the map, tiles are spilled and read back, and the result is
+// the map built in memory, bit for bit, in either file format.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "city_route.h"
+#include "ndtom/map_io.h"
+#include "ndtom/out_of_core_map.h"
+#include "ndtom/tiled_map.h"
+#include "simulated_lidar.h"
+#include "support/map_equality.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace ndtom;
+
+std::string readBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+TEST(OutOfCoreMap, SpillsAndReloadsTilesAndBuildsTheInMemoryMap) {
+  world::CityLayout layout;
+  layout.blocks_x = layout.blocks_y = 3;
+  const world::CityWorld city(layout);
+  world::RouteSettings route;
+  route.length = 700;
+  route.step = 7;
+  const auto poses = world::driveThrough(city, route);
+  world::LidarModel lidar;
+  lidar.rings = 12;
+  lidar.azimuth_steps = 360;
+  lidar.max_range = 40;
+
+  MapOptions options;
+  options.resolution = 0.4;
+  options.insertion.max_range = 30;
+  NdtMap whole(options);
+  std::vector<std::vector<Eigen::Vector3d>> scans;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    auto points = world::simulateScan(city, lidar, poses[i], i);
+    for (auto& p : points) p = poses[i] * p;
+    whole.insertScan(points, poses[i].translation());
+    scans.push_back(std::move(points));
+  }
+  ASSERT_GT(whole.numCells(), 50000u);
+
+  const fs::path dir = fs::temp_directory_path() / ("ndtom_ooc_" + std::to_string(::getpid()));
+  const uint64_t budget = whole.memoryBytes() / 10;
+  {
+    OutOfCoreMap ooc(options, budget, 2, (dir / "spill").string());
+    for (size_t i = 0; i < poses.size(); ++i)
+      ooc.insertScan(scans[i], poses[i].translation(), options.insertion);
+    const auto& s = ooc.stats();
+    std::printf("map %zu B, budget %llu B, peak resident %zu B, %zu spills, %zu loads, %zu tiles out\n",
+                whole.memoryBytes(), (unsigned long long)budget, s.peak_resident_bytes, s.spills,
+                s.loads, ooc.spilledTiles());
+    EXPECT_GT(s.spills, 20u);
+    EXPECT_GT(ooc.spilledTiles(), 10u);
+    EXPECT_LT(s.peak_resident_bytes, whole.memoryBytes() / 2);  // memory follows the window
+    EXPECT_LT(ooc.resident().memoryBytes(), whole.memoryBytes() / 3);
+
+    saveTiledMap(whole, (dir / "memory.tiles").string(), 2);
+    ooc.saveTiled((dir / "ooc.tiles").string());
+    EXPECT_EQ(readBytes(dir / "ooc.tiles"), readBytes(dir / "memory.tiles"));
+    EXPECT_GT(ooc.spilledTiles(), 10u);  // saving left the spilled tiles where they were
+
+    NdtMap& assembled = ooc.assemble();
+    ndtom::testing::expectBitIdentical(whole, assembled);
+    EXPECT_EQ(encodeMap(assembled), encodeMap(whole));
+  }
+  EXPECT_TRUE(fs::is_empty(dir / "spill"));  // spill files go with the map
+  fs::remove_all(dir);
+}
+
+TEST(OutOfCoreMap, RejectsBadSizesAndMovesBlocksBothWays) {
+  EXPECT_THROW(OutOfCoreMap(MapOptions{}, 0, 2, "/tmp"), std::invalid_argument);
+  EXPECT_THROW(OutOfCoreMap(MapOptions{}, 1000, 0, "/tmp"), std::invalid_argument);
+  NdtMap map;
+  map.setCell({0, 0, 0}, 1.0f, {});
+  map.setCell({20, 0, 0}, -1.0f, {});
+  const size_t before = map.memoryBytes();
+  NdtMap far = map.extractBlocks([](const CellIndex& b) { return b.x > 0; });
+  EXPECT_EQ(map.numCells(), 1u);
+  EXPECT_EQ(far.numCells(), 1u);
+  EXPECT_TRUE(far.cell({20, 0, 0}));
+  EXPECT_THROW(map.absorbBlocks(NdtMap(map)), std::invalid_argument);  // a block in both
+  map.absorbBlocks(std::move(far));
+  EXPECT_EQ(map.numCells(), 2u);
+  EXPECT_EQ(map.cell({20, 0, 0})->logodds, -1.0f);
+  EXPECT_LE(map.memoryBytes(), before);
+}
+
+}  // namespace
