@@ -73,6 +73,13 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
           if (!(o.tracking.recovery_radius >= 0 && o.tracking.recovery_radius <= 100))
             throw UsageError("--recovery-radius = " + v + ": must be in [0, 100] m");
         }}},
+      {"--region-radius",
+       {true,
+        [](O& o, const std::string& v) {
+          o.region_radius = parseReal("--region-radius", v);
+          if (!(o.region_radius > 0 && o.region_radius <= 10000))
+            throw UsageError("--region-radius = " + v + ": must be in (0, 10000] m");
+        }}},
       {"--search-step",
        {true,
         [](O& o, const std::string& v) {
@@ -235,6 +242,9 @@ std::string helpText() {
       "  --global-every-scan       no tracking: search every scan in the whole map\n"
       "  --recovery-radius M       the search around the prediction: x, y within M m (4) and\n"
       "                            yaw within 60 degrees\n"
+      "  --region-radius M         a tiled map (.ndtomtiles): tiles within M m (x, y) of the\n"
+      "                            predicted pose resident, farther ones dropped; a search of\n"
+      "                            the whole map loads every tile (60)\n"
       "  --search-step M           x, y grid of the searches [m] (2)\n"
       "  --search-yaw-step D       yaw grid of the searches [degrees] (30)\n"
       "  --method p2d|d2d          points to map Gaussians, or the scan's own NDT (p2d)\n"

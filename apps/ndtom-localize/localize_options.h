@@ -13,7 +13,8 @@
 namespace ndtom::localizer {
 
 struct LocalizeOptions {
-  std::string map_path;  ///< .ndtom or .ndtommap
+  std::string map_path;  ///< .ndtom, .ndtommap or a tiled map
+  double region_radius = 60;  ///< m: tiles of a tiled map kept resident around the robot
   std::string input;
   std::string prefix;  ///< outputs are PREFIX.tum, PREFIX.summary.json, PREFIX.top.png
   mapper::InputFormat format = mapper::InputFormat::Auto;

@@ -91,7 +91,7 @@ std::string trajectoryTum(const TrackingResult& tracking) {
 std::string scansCsv(const TrackingResult& tracking) {
   std::ostringstream s;
   s << "index,time,outcome,found_by,registrations,x,y,z,qx,qy,qz,qw,error_m,error_deg,"
-       "matched_fraction,free_fraction,seconds\n";
+       "matched_fraction,free_fraction,seconds,map_bytes,rss_bytes\n";
   s << std::setprecision(9);
   for (const ScanRecord& r : tracking.scans) {
     s << r.index << ',' << std::fixed << std::setprecision(6) << r.time << std::defaultfloat
@@ -107,7 +107,8 @@ std::string scansCsv(const TrackingResult& tracking) {
     const auto e = errorOf(r);
     s << ',' << (e ? std::to_string(e->translation) : "") << ','
       << (e ? std::to_string(e->rotation) : "") << ',' << r.result.matched_fraction << ','
-      << r.result.free_fraction << ',' << r.seconds << '\n';
+      << r.result.free_fraction << ',' << r.seconds << ',' << r.map_bytes << ',' << r.rss_bytes
+      << '\n';
   }
   return s.str();
 }
@@ -124,6 +125,16 @@ std::string summaryJson(const LocalizeSummary& s) {
   j.field("map_cells", s.map_cells);
   j.field("map_gaussians", s.map_gaussians);
   j.field("map_load_seconds", s.map_load_seconds);
+  if (s.region) {
+    j.beginObject("region");  // the tiles resident around the robot
+    j.field("radius_m", s.region->radius);
+    j.field("tiles_in_file", s.region->tiles);
+    j.field("loads", s.region->loads);
+    j.field("drops", s.region->drops);
+    j.field("max_resident_tiles", s.region->max_resident_tiles);
+    j.field("max_resident_map_bytes", s.region->max_resident_bytes);
+    j.endObject();
+  }
   j.field("input", o.input);
   j.field("source", s.source_description);
   j.beginObject("registration");

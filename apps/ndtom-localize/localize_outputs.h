@@ -2,6 +2,7 @@
 // of the path on the map seen from above; and the short text for the terminal.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "localize_options.h"
@@ -23,6 +24,13 @@ struct LocalizeSummary {
   size_t map_cells = 0, map_gaussians = 0;
   double map_resolution = 0;
   double map_load_seconds = 0;
+  /// A tiled map, held in part around the robot.
+  struct Region {
+    double radius = 0;
+    size_t tiles = 0, loads = 0, drops = 0;
+    size_t max_resident_tiles = 0, max_resident_bytes = 0;
+  };
+  std::optional<Region> region;
   const TrackingResult* tracking = nullptr;
   double total_seconds = 0;
   size_t peak_rss = 0;

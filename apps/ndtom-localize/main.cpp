@@ -2,11 +2,14 @@
 // registration. Exit code 0 on success, 1 for bad input data or a failed write, 2 for a bad
 // command line.
 #include <chrono>
+#include <algorithm>
 #include <cstdio>
+#include <optional>
 
 #include "localize_options.h"
 #include "localize_outputs.h"
 #include "map_file.h"
+#include "region_map.h"
 #include "ndtom/map_queries.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/run_program.h"
@@ -44,10 +47,25 @@ int run(const LocalizeOptions& o) {
   ndtom::mapper::OutputFiles out(o.prefix);
 
   const auto load_start = std::chrono::steady_clock::now();
-  const ndtom::NdtMap map = loadMapFile(o.map_path);
+  // A tiled map is held in part, around the robot; any other map whole.
+  std::optional<RegionMap> region;
+  std::optional<ndtom::NdtMap> whole;
+  if (isTiledMapFile(o.map_path)) {
+    try {
+      region.emplace(o.map_path, o.region_radius);
+    } catch (const std::exception& e) {
+      throw InputError(ndtom::apps::oneLineMessage(e));
+    }
+    if (region->file().tiles().empty())
+      throw InputError(o.map_path + ": the tiled map has no tile to localize in");
+  } else {
+    whole = loadMapFile(o.map_path);
+    if (!hasOccupiedGaussian(*whole))
+      throw InputError(o.map_path +
+                       ": the map has no occupied cell with a Gaussian to localize in");
+  }
+  const ndtom::NdtMap& map = region ? region->map() : *whole;
   const double load_seconds = secondsSince(load_start);
-  if (!hasOccupiedGaussian(map))
-    throw InputError(o.map_path + ": the map has no occupied cell with a Gaussian to localize in");
   if (!o.quiet) std::fprintf(stderr, "ndtom-localize: %s\n", source->description().c_str());
 
   std::optional<ndtom::mapper::TrajectoryPoses> reference;
@@ -67,14 +85,46 @@ int run(const LocalizeOptions& o) {
   for (size_t k = 0; k < o.skip; ++k)
     if (!source->next())
       throw InputError(o.input + ": fewer than --skip " + std::to_string(o.skip) + " scans");
-  const TrackingResult tracking = track(map, *source, o.tracking, lookup, progress, o.skip);
+  TrackingSettings tracking_settings = o.tracking;
+  LocalizeSummary::Region region_summary;
+  if (region) {
+    tracking_settings.prepare_map = [&](const std::optional<Eigen::Vector3d>& around) {
+      if (around)
+        region->keepAround(*around);
+      else
+        region->keepEverything();
+      region_summary.max_resident_tiles =
+          std::max(region_summary.max_resident_tiles, region->residentTiles());
+      region_summary.max_resident_bytes =
+          std::max(region_summary.max_resident_bytes, map.memoryBytes());
+    };
+  }
+  const TrackingResult tracking =
+      track(map, *source, tracking_settings, lookup, progress, o.skip);
   if (tracking.scans.empty()) throw InputError(o.input + ": no scans");
+  if (region) {
+    region_summary.radius = region->radius();
+    region_summary.tiles = region->file().tiles().size();
+    region_summary.loads = region->loads();
+    region_summary.drops = region->drops();
+    if (o.pictures) {  // the picture shows the tiles along the path
+      std::vector<Eigen::Vector3d> path;
+      for (const ScanRecord& r : tracking.scans)
+        if (r.pose) path.push_back(r.pose->translation());
+      region->addAlong(path);
+    }
+  }
   writeTrajectoryOutputs(map, tracking, o, out);
 
   LocalizeSummary summary;
   summary.options = &o;
   summary.source_description = source->description();
   summary.map_cells = map.numCells();
+  if (region) {
+    summary.map_cells = 0;
+    for (const auto& t : region->file().tiles()) summary.map_cells += t.cells;
+    summary.region = region_summary;
+  }
   summary.map_gaussians = map.numGaussians();
   summary.map_resolution = map.options().resolution;
   summary.map_load_seconds = load_seconds;

@@ -17,7 +17,7 @@ ndtom::NdtMap loadMapFile(const std::string& path) {
   using mapper::InputError;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError(path + ": no such map file (a .ndtom or .ndtommap written by ndtom-map)");
+    throw InputError(path + ": no such map file (a .ndtom, .ndtommap or tiled map written by ndtom-map)");
   char magic[8] = {};
   std::ifstream(path, std::ios::binary).read(magic, sizeof(magic));
   try {
@@ -30,6 +30,12 @@ ndtom::NdtMap loadMapFile(const std::string& path) {
     throw InputError(path + ": not a readable NDT-OM (.ndtom or .ndtommap): " +
                      apps::oneLineMessage(e));
   }
+}
+
+bool isTiledMapFile(const std::string& path) {
+  char magic[8] = {};
+  std::ifstream(path, std::ios::binary).read(magic, sizeof(magic));
+  return std::string(magic, 8) == "NDTOMTIL";
 }
 
 }  // namespace ndtom::localizer

@@ -1,5 +1,6 @@
 // The map to localize in: a .ndtom file (the project's format) or a .ndtommap (an MRPT
-// archive holding a CNDTOccupancyMap), told apart by their first bytes.
+// archive holding a CNDTOccupancyMap), told apart by their first bytes; or a tiled map,
+// which RegionMap loads in part.
 #pragma once
 
 #include <string>
@@ -10,5 +11,8 @@ namespace ndtom::localizer {
 
 /// Throws mapper::InputError naming the file if it cannot be read or is not such a map.
 ndtom::NdtMap loadMapFile(const std::string& path);
+
+/// Whether `path` starts as a tiled map (ndtom/tiled_map.h), to be loaded by region.
+bool isTiledMapFile(const std::string& path);
 
 }  // namespace ndtom::localizer

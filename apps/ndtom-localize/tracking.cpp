@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "motion_prediction.h"
+#include "ndtom_apps/process_memory.h"
 
 namespace ndtom::localizer {
 namespace {
@@ -37,9 +38,11 @@ class Tracker {
         (settings_.relocalize_after > 0 && lost_in_a_row_ >= settings_.relocalize_after);
     if (!search_everywhere) {
       record.prediction = predict(scan);
+      if (settings_.prepare_map) settings_.prepare_map(record.prediction->translation());
       track(points, record);
     }
     if (record.outcome == Outcome::Lost && search_everywhere) {
+      if (settings_.prepare_map) settings_.prepare_map(std::nullopt);
       ++totals.global_searches;
       relocalize(points, record);
     }
@@ -171,6 +174,8 @@ TrackingResult track(const ndtom::NdtMap& map, mapper::ScanSource& source,
       record.reference = reference(record.index, record.time);
     tracker.localize(*scan, record, out);
     record.seconds = std::chrono::duration<double>(Clock::now() - scan_start).count();
+    record.map_bytes = map.memoryBytes();
+    record.rss_bytes = apps::currentRssBytes();
     points_done += record.points;
     out.scans.push_back(std::move(record));
     progress.update(out.scans.size(), points_done);

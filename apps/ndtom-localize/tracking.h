@@ -26,6 +26,9 @@ struct TrackingSettings {
   bool global_every_scan = false;  ///< no tracking: every scan searched for in the whole map
   double recovery_radius = 4.0;   ///< m, of the search around the prediction
   double recovery_yaw_deg = 60;   ///< ± around the prediction's yaw
+  /// Called before each scan is localized with where the robot is predicted to be, or with
+  /// nothing before a search of the whole map: a map held in part (RegionMap) loads there.
+  std::function<void(const std::optional<Eigen::Vector3d>& around)> prepare_map;
 };
 
 /// How a scan's pose was found.
@@ -47,6 +50,8 @@ struct ScanRecord {
   std::optional<Eigen::Isometry3d> pose;
   std::optional<Eigen::Isometry3d> reference;  ///< from the input or --reference
   double seconds = 0;                          ///< localizing this scan (reading excluded)
+  size_t map_bytes = 0;                        ///< the map's memory after it (resident part)
+  size_t rss_bytes = 0;                        ///< the process's resident memory after it
 };
 
 struct TrackingResult {

@@ -1,4 +1,5 @@
-// A drive through a CityWorld: along the streets' centre lines from one crossing to the next,
+// A drive through a CityWorld: along the streets' centre lines from one crossing to the next
+// (turning on quarter circles of 8 m, as a car does),
 // preferring streets not driven yet (so the map grows with the distance, as a survey's does),
 // never turning back. Poses every `step` metres, the sensor facing the driving direction.
 #pragma once
