@@ -8,10 +8,10 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
-#include <bitset>
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <type_traits>
 #include <vector>
 
 #include "ndtom/block_grid.h"
@@ -23,7 +23,8 @@
 
 namespace ndtom {
 
-struct ScanScratch;
+struct MapBlock;     // src/map_block.h
+struct ScanScratch;  // src/scan_update.h
 
 /// Read-only view of one known cell.
 struct CellView {
@@ -38,8 +39,9 @@ class NdtMap {
   explicit NdtMap(const MapOptions& options = {});
   NdtMap(const NdtMap& other);
   NdtMap& operator=(const NdtMap& other);
-  NdtMap(NdtMap&&) noexcept = default;
-  NdtMap& operator=(NdtMap&&) noexcept = default;
+  NdtMap(NdtMap&&) noexcept;
+  NdtMap& operator=(NdtMap&&) noexcept;
+  ~NdtMap();
 
   const MapOptions& options() const { return options_; }
   const GridGeometry& geometry() const { return geometry_; }
@@ -122,56 +124,22 @@ class NdtMap {
   void shrinkToFit();
 
  private:
-  /// A block's cells, with the statistics of the few that have some packed in offset order:
-  /// most known cells are free space, so a per-cell slot would cost more than the cells.
-  struct Block {
-    static constexpr int kWords = kBlockCells / 64;
-    using Mask = std::array<uint64_t, kWords>;
-
-    std::array<float, kBlockCells> logodds;
-    std::bitset<kBlockCells> known;
-    Mask has_stats{};              ///< bit i: cell i has statistics
-    std::vector<CellStats> stats;  ///< of the cells in has_stats, in offset order
-
-    Block() { logodds.fill(0.f); }
-    bool hasStats(int i) const { return (has_stats[i >> 6] >> (i & 63)) & 1; }
-    /// Position of cell i's statistics in `stats`: how many cells before it have some.
-    size_t statsPos(int i) const {
-      size_t pos = 0;
-      for (int w = 0; w < (i >> 6); ++w) pos += size_t(__builtin_popcountll(has_stats[w]));
-      const uint64_t below = (uint64_t(1) << (i & 63)) - 1;
-      return pos + size_t(__builtin_popcountll(has_stats[i >> 6] & below));
-    }
-    const CellStats* statsOf(int i) const { return hasStats(i) ? &stats[statsPos(i)] : nullptr; }
-    /// Drops cell i's statistics (it has some); never allocates. Returns whether they were a
-    /// Gaussian.
-    bool eraseStats(int i);
-  };
-
-  /// Insertion's reusable buffers: owned, never copied, not part of the map's value.
-  class Scratch {
-   public:
-    Scratch();
-    ~Scratch();
-    Scratch(const Scratch&) : Scratch() {}
-    Scratch& operator=(const Scratch&) { return *this; }
-    Scratch(Scratch&&) noexcept;
-    Scratch& operator=(Scratch&&) noexcept;
-    ScanScratch& get() { return *p_; }
-
-   private:
-    std::unique_ptr<ScanScratch> p_;
-  };
-
   friend class ScanUpdater;
-  friend struct ScanScratch;
 
+  /// The templates above reach the (private) blocks through these: visit(f, cell) per cell.
+  using CellCallback = void (*)(void* f, const CellView& cell);
   template <class F>
-  void forEachCellOfBlock(const CellIndex& block_index, const Block& block, F& f) const;
+  static void callWith(void* f, const CellView& cell) {
+    (*static_cast<std::remove_reference_t<F>*>(f))(cell);
+  }
+  template <class F>
+  static void* erase(F& f) {
+    return const_cast<void*>(static_cast<const void*>(&f));
+  }
+  void visitCells(CellCallback visit, void* f) const;
+  void visitCellsOrdered(CellCallback visit, void* f) const;
 
   float clampLogOdds(double l) const;
-  /// Heap bytes of one block's statistics array (memoryBytes() counts them).
-  static size_t statsBytes(const std::vector<CellStats>& stats);
   /// Half the cell edge: the box the cell-centred means stay in (CellStats::clampMean).
   double halfCell() const { return 0.5 * options_.resolution; }
   /// Throws MemoryBudgetError unless `new_blocks` more blocks fit the memory budget.
@@ -180,40 +148,23 @@ class NdtMap {
 
   MapOptions options_;
   GridGeometry geometry_;
-  BlockGrid<Block> grid_;
+  BlockGrid<MapBlock> grid_;
   size_t num_cells_ = 0;
   size_t stats_bytes_ = 0;  ///< statsBytes() summed over the blocks
   uint64_t revision_ = 0;
-  Scratch scratch_;
+  std::unique_ptr<ScanScratch> scratch_;  ///< insertion's buffers and threads, made on first use
 };
 
 // --- Template implementations ------------------------------------------------------------
 
 template <class F>
-void NdtMap::forEachCellOfBlock(const CellIndex& block_index, const Block& block, F& f) const {
-  if (block.known.none()) return;
-  const CellStats* next = block.stats.data();  // cells with statistics come in offset order
-  for (int i = 0; i < kBlockCells; ++i) {
-    if (!block.known[i]) continue;
-    f(CellView{cellOf(block_index, i), block.logodds[i], block.hasStats(i) ? next++ : nullptr});
-  }
-}
-
-template <class F>
 void NdtMap::forEachCell(F&& f) const {
-  for (const auto& [block_index, block] : grid_.blocks())
-    forEachCellOfBlock(block_index, *block, f);
+  visitCells(&callWith<F>, erase(f));
 }
 
 template <class F>
 void NdtMap::forEachCellOrdered(F&& f) const {
-  std::vector<std::pair<CellIndex, const Block*>> blocks;
-  blocks.reserve(grid_.size());
-  for (const auto& [block_index, block] : grid_.blocks())
-    blocks.emplace_back(block_index, block.get());
-  std::sort(blocks.begin(), blocks.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [block_index, block] : blocks) forEachCellOfBlock(block_index, *block, f);
+  visitCellsOrdered(&callWith<F>, erase(f));
 }
 
 template <class F>
