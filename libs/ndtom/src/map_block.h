@@ -1,6 +1,7 @@
 // One block of the map's cells: private to the library (NdtMap holds them in a BlockGrid).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <bitset>
 #include <cstddef>
@@ -9,6 +10,7 @@
 
 #include "ndtom/block_grid.h"
 #include "ndtom/cell_stats.h"
+#include "ndtom/options.h"
 
 namespace ndtom {
 
@@ -43,6 +45,11 @@ inline size_t statsBytes(const std::vector<CellStats>& stats) {
   // glibc's malloc: a chunk header and rounding to 16 bytes for each statistics array.
   constexpr size_t kHeapBlockOverhead = 16;
   return stats.capacity() == 0 ? 0 : stats.capacity() * sizeof(CellStats) + kHeapBlockOverhead;
+}
+
+/// A cell's log-odds after an update, kept within the options' bounds (Sec. III-C).
+inline float clampLogOdds(double l, const OccupancyOptions& o) {
+  return float(std::clamp(l, o.logodds_min, o.logodds_max));
 }
 
 }  // namespace ndtom

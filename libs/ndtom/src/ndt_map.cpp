@@ -72,7 +72,7 @@ NdtMap& NdtMap::operator=(const NdtMap& other) {
 }
 
 float NdtMap::clampLogOdds(double l) const {
-  return float(std::clamp(l, options_.occupancy.logodds_min, options_.occupancy.logodds_max));
+  return ndtom::clampLogOdds(l, options_.occupancy);
 }
 
 InsertionReport NdtMap::insertScan(const std::vector<Eigen::Vector3d>& points,

@@ -41,10 +41,7 @@ class MapUpdate {
   void applyFreeCounts(size_t begin, size_t end, ApplyBuffers::Part& part);
   void applyHits(const HitBlock& hit_block, ApplyBuffers::HitTarget& target,
                  ApplyBuffers::Part& part);
-  float clampLogOdds(double l) const {
-    return float(std::clamp(l, map_options_.occupancy.logodds_min,
-                            map_options_.occupancy.logodds_max));
-  }
+  float clampLogOdds(double l) const { return ndtom::clampLogOdds(l, map_options_.occupancy); }
 
   const ScanContext& scan_;
   const MapOptions& map_options_;
