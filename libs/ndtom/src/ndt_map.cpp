@@ -135,20 +135,21 @@ std::optional<double> NdtMap::occupancyProbability(const Eigen::Vector3d& point)
   return ndtom::occupancyProbability(c->logodds);
 }
 
-Gaussian NdtMap::gaussianOf(const CellView& c, bool regularized) const {
+Gaussian NdtMap::gaussianOf(const CellView& c, Covariance covariance) const {
   Gaussian g;
   g.cell = c.index;
   g.n = c.stats->n;
   g.mean = geometry_.cellCenter(c.index) + c.stats->mean;
   g.covariance = c.stats->covariance();
-  if (regularized) g.covariance = regularizedCovariance(g.covariance, options_.regularization);
+  if (covariance == Covariance::Regularized)
+    g.covariance = regularizedCovariance(g.covariance, options_.regularization);
   return g;
 }
 
-std::optional<Gaussian> NdtMap::gaussian(const CellIndex& index, bool regularized) const {
+std::optional<Gaussian> NdtMap::gaussian(const CellIndex& index, Covariance covariance) const {
   const auto c = cell(index);
   if (!c || !c->stats || !c->stats->hasGaussian()) return std::nullopt;
-  return gaussianOf(*c, regularized);
+  return gaussianOf(*c, covariance);
 }
 
 uint64_t NdtMap::maxScanPoints(uint64_t budget) {

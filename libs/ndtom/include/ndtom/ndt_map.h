@@ -26,6 +26,11 @@ namespace ndtom {
 struct MapBlock;     // src/map_block.h
 struct ScanScratch;  // src/scan_update.h
 
+/// The covariance a cell's Gaussian carries: the exact sample covariance (Eq. 3), or that
+/// with its eigenvalues floored (MapOptions::regularization), as the likelihood and the
+/// registration use it.
+enum class Covariance : uint8_t { Regularized, Exact };
+
 /// Read-only view of one known cell.
 struct CellView {
   CellIndex index;
@@ -63,14 +68,16 @@ class NdtMap {
   size_t numGaussians() const;                    ///< cells with N ≥ 3
   size_t numOccupied() const;                     ///< cells with log-odds > 0
 
-  std::optional<CellView> cell(const CellIndex& index) const;
+  [[nodiscard]] std::optional<CellView> cell(const CellIndex& index) const;
   /// Cell at a point; nullopt if unknown, non-finite or outside the supported range.
-  std::optional<CellView> cellAt(const Eigen::Vector3d& point) const;
+  [[nodiscard]] std::optional<CellView> cellAt(const Eigen::Vector3d& point) const;
   /// p(m | z_1:t) of the cell at `point`; nullopt where nothing is known.
-  std::optional<double> occupancyProbability(const Eigen::Vector3d& point) const;
+  [[nodiscard]] std::optional<double> occupancyProbability(const Eigen::Vector3d& point) const;
   /// World-frame Gaussian of a cell with N ≥ 3, its covariance regularised or exact.
-  std::optional<Gaussian> gaussian(const CellIndex& index, bool regularized = true) const;
-  Gaussian gaussianOf(const CellView& cell, bool regularized = true) const;
+  [[nodiscard]] std::optional<Gaussian> gaussian(
+      const CellIndex& index, Covariance covariance = Covariance::Regularized) const;
+  [[nodiscard]] Gaussian gaussianOf(const CellView& cell,
+                                    Covariance covariance = Covariance::Regularized) const;
 
   /// f(const CellView&) for every known cell, block by block.
   template <class F>
@@ -80,12 +87,12 @@ class NdtMap {
   void forEachCellOrdered(F&& f) const;
   /// f(const Gaussian&) for every cell with N ≥ 3.
   template <class F>
-  void forEachGaussian(F&& f, bool regularized = true) const;
+  void forEachGaussian(F&& f, Covariance covariance = Covariance::Regularized) const;
 
   /// Most points a scan can have under a memory budget of `budget` bytes: each takes ~160
   /// bytes of buffers while it is inserted. For readers, to refuse larger scans before
   /// allocating them.
-  static uint64_t maxScanPoints(uint64_t budget);
+  [[nodiscard]] static uint64_t maxScanPoints(uint64_t budget);
 
   /// Heap bytes used by cells, blocks, index and statistics. O(1): the statistics' share is
   /// kept up to date as they change (the memory budget reads it before every scan).
@@ -107,7 +114,7 @@ class NdtMap {
 
   /// A map `factor` times coarser (Sec. III-B): each coarse cell is the RCU merge of the fine
   /// cells inside it; its log-odds is the largest of theirs (occupied if any part is).
-  NdtMap coarsened(int factor) const;
+  [[nodiscard]] NdtMap coarsened(int factor) const;
 
   void clear();
 
@@ -152,7 +159,9 @@ class NdtMap {
   size_t num_cells_ = 0;
   size_t stats_bytes_ = 0;  ///< statsBytes() summed over the blocks
   uint64_t revision_ = 0;
-  std::unique_ptr<ScanScratch> scratch_;  ///< insertion's buffers and threads, made on first use
+  /// Insertion's buffers and threads, made on first use: not part of the map's value, never
+  /// copied.
+  std::unique_ptr<ScanScratch> scratch_;
 };
 
 // --- Template implementations ------------------------------------------------------------
@@ -168,9 +177,9 @@ void NdtMap::forEachCellOrdered(F&& f) const {
 }
 
 template <class F>
-void NdtMap::forEachGaussian(F&& f, bool regularized) const {
+void NdtMap::forEachGaussian(F&& f, Covariance covariance) const {
   forEachCell([&](const CellView& c) {
-    if (c.stats && c.stats->hasGaussian()) f(gaussianOf(c, regularized));
+    if (c.stats && c.stats->hasGaussian()) f(gaussianOf(c, covariance));
   });
 }
 
