@@ -74,9 +74,10 @@ void writeConflictsByHeight(EvalContext& ctx, const MappingMaps& maps,
   const double sensor_z = maps.path.front().z();
   std::map<int, std::pair<size_t, size_t>> bands;  // band -> (Gaussians, conflicts)
   auto band = [&](const Eigen::Vector3d& p) { return int(std::floor(p.z() - sensor_z)); };
-  maps.recursive.forEachGaussian([&](const Gaussian& g) { ++bands[band(g.mean)].first; }, false);
+  maps.recursive.forEachGaussian([&](const Gaussian& g) { ++bands[band(g.mean)].first; },
+                                 Covariance::Exact);
   for (const CellIndex& c : conflicts)
-    ++bands[band(maps.recursive.gaussian(c, false)->mean)].second;
+    ++bands[band(maps.recursive.gaussian(c, Covariance::Exact)->mean)].second;
   CsvTable table({"height_above_sensor_min_m", "height_above_sensor_max_m", "recursive_gaussians",
                   "conflicts", "conflict_share"});
   for (const auto& [b, counts] : bands)

@@ -33,7 +33,7 @@ TEST(GaussianLookup, HoldsEveryGaussianOfTheMapInCellOrder) {
   EXPECT_EQ(lookup.means().size(), lookup.size());
 
   for (const auto& g : lookup.gaussians()) {
-    const auto expected = map.gaussian(g.cell, /*regularized=*/true);
+    const auto expected = map.gaussian(g.cell, ndtom::Covariance::Regularized);
     ASSERT_TRUE(expected.has_value());
     EXPECT_EQ(g.n, expected->n);
     EXPECT_EQ(g.mean, expected->mean);

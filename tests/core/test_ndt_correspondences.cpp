@@ -156,7 +156,7 @@ TEST(NdtCorrespondences, MatchingRatio) {
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz)
-          if (const auto g = map.gaussian({home.x + dx, home.y + dy, home.z + dz}, true))
+          if (const auto g = map.gaussian({home.x + dx, home.y + dy, home.z + dz}, ndtom::Covariance::Regularized))
             best = std::min(best, (p - g->mean).dot(g->covariance.inverse() * (p - g->mean)));
     matched += best <= 1.0;
   }

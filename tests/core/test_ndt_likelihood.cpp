@@ -32,7 +32,7 @@ double bruteForce(const NdtMap& map, const std::vector<Vector3d>& points, double
     for (int dx = -reach; dx <= reach; ++dx)
       for (int dy = -reach; dy <= reach; ++dy)
         for (int dz = -reach; dz <= reach; ++dz) {
-          const auto g = map.gaussian({home.x + dx, home.y + dy, home.z + dz}, true);
+          const auto g = map.gaussian({home.x + dx, home.y + dy, home.z + dz}, ndtom::Covariance::Regularized);
           if (!g) continue;
           const Vector3d d = p - g->mean;
           best = std::max(best, std::exp(-0.5 * d.dot(g->covariance.inverse() * d)));

@@ -365,12 +365,12 @@ TEST(NdtMapRayModes, HitsAndGaussiansDoNotDependOnTheRayMode) {
   // Static scene with hits on surfaces only: every surface cell keeps the same statistics.
   a.forEachGaussian(
       [&](const ndtom::Gaussian& g) {
-        const auto other = b.gaussian(g.cell, false);
+        const auto other = b.gaussian(g.cell, ndtom::Covariance::Exact);
         if (!other) return;  // emptied in one mode only; counted below
         EXPECT_EQ(other->n, g.n);
         EXPECT_LT((other->mean - g.mean).norm(), 1e-12);
       },
-      false);
+      ndtom::Covariance::Exact);
   EXPECT_NEAR(double(b.numGaussians()), double(a.numGaussians()), 0.05 * a.numGaussians());
 }
 
@@ -394,8 +394,8 @@ TEST(NdtMapQueries, RegularisedCovarianceIsFlooredButStatisticsStayExact) {
   for (int i = 0; i < 5; ++i)
     for (int j = 0; j < 5; ++j) pts.emplace_back(3.1 + 0.2 * i, 0.1 + 0.2 * j, 0.5);
   map.insertScan(pts, {0.5, 0.5, 0.5});
-  const auto exact = map.gaussian({3, 0, 0}, false);
-  const auto reg = map.gaussian({3, 0, 0}, true);
+  const auto exact = map.gaussian({3, 0, 0}, ndtom::Covariance::Exact);
+  const auto reg = map.gaussian({3, 0, 0}, ndtom::Covariance::Regularized);
   ASSERT_TRUE(exact && reg);
   EXPECT_NEAR(exact->covariance.determinant(), 0.0, 1e-15);
   EXPECT_GT(reg->covariance.determinant(), 0.0);

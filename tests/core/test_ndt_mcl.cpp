@@ -59,7 +59,7 @@ double bruteForce(const NdtMap& map, const ScanNdt& scan, const Isometry3d& t, d
     double s = c;
     if (map.geometry().inRange(m)) {
       const auto cell = map.cell(map.geometry().cellOf(m));
-      const auto target = map.gaussian(map.geometry().cellOf(m), /*regularized=*/true);
+      const auto target = map.gaussian(map.geometry().cellOf(m), ndtom::Covariance::Regularized);
       if (target && cell && cell->logodds > 0) {
         const Eigen::Matrix3d summed =
             t.linear() * fullCovariance(g.cov) * t.linear().transpose() + target->covariance;
@@ -157,7 +157,7 @@ TEST(NdtMcl, MapTableFindsWhatTheMapHolds) {
   size_t found = 0;
   for (int i = 0; i < 20000; ++i) {
     const Vector3d p(u(rng), u(rng), 0.5 * u(rng) + 1.0);
-    const auto g = map.gaussian(map.geometry().cellOf(p), true);
+    const auto g = map.gaussian(map.geometry().cellOf(p), ndtom::Covariance::Regularized);
     const auto cell = map.cellAt(p);
     const ndtom::MclGaussian* hit = table.findAt(p);
     if (!g || !cell || !(cell->logodds > 0)) {

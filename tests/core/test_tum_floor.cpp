@@ -103,7 +103,7 @@ FloorCheck checkFloor(const ndtom::NdtMap& map) {
         heights.push_back(g.mean.z());
         sigmas.push_back(std::sqrt(std::max(0.0, eig.eigenvalues()[0])));
       },
-      /*regularized=*/false);
+      ndtom::Covariance::Exact);
   c.median_z = median(heights);
   c.median_sigma = median(sigmas);
   return c;

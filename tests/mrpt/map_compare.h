@@ -37,7 +37,7 @@ inline MapDifference compareMaps(const NdtMap& a, const NdtMap& b) {
       return;
     }
     if (na < 3) return;
-    const Gaussian ga = a.gaussianOf(ca, false), gb = b.gaussianOf(*cb, false);
+    const Gaussian ga = a.gaussianOf(ca, Covariance::Exact), gb = b.gaussianOf(*cb, Covariance::Exact);
     d.max_mean_error = std::max(d.max_mean_error, (ga.mean - gb.mean).norm());
     d.max_cov_error = std::max(d.max_cov_error, (ga.covariance - gb.covariance).norm());
   });

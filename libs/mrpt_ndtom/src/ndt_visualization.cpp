@@ -47,7 +47,7 @@ std::vector<ndtom::Gaussian> selectGaussians(const ndtom::NdtMap& map, const TRe
     // A map without occupancy (Recursive NDT) has no log-odds to threshold.
     if (ndtom::isOccupiedGaussian(map, c) &&
         (!map.options().occupancy.enabled || c.logodds > o.min_logodds))
-      all.push_back(map.gaussianOf(c, /*regularized=*/true));
+      all.push_back(map.gaussianOf(c, ndtom::Covariance::Regularized));
   });
   if (all.size() > o.max_ellipsoids) {
     std::stable_sort(all.begin(), all.end(),

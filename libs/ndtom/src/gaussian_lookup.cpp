@@ -35,7 +35,7 @@ GaussianLookup::GaussianLookup(const NdtMap& map, const LookupOptions& options)
     const bool wanted =
         options.occupied_only ? isOccupiedGaussian(map, c) : c.stats && c.stats->hasGaussian();
     if (!wanted) return;
-    gaussians_.push_back(prepare(map.gaussianOf(c, /*regularized=*/true)));
+    gaussians_.push_back(prepare(map.gaussianOf(c, Covariance::Regularized)));
   });
   std::sort(gaussians_.begin(), gaussians_.end(),
             [](const PreparedGaussian& a, const PreparedGaussian& b) { return a.cell < b.cell; });

@@ -291,7 +291,7 @@ void decodeBlocks(ByteReader& in, NdtMap& map) {
       in.fail("statistics mask does not match its count");
     for (int j = 0; j < k; ++j) {
       const bool stats = (has[size_t(j >> 3)] >> (j & 7)) & 1;
-      setDecodedCell(in, map, cellOf(block, offsets[size_t(j)]), values[size_t(j)],
+      setDecodedCell(in, map, cellInBlock(block, offsets[size_t(j)]), values[size_t(j)],
                      stats ? readStats(in) : CellStats{}, cells);
     }
     decoded += uint64_t(k);

@@ -75,7 +75,7 @@ GaussianSet gaussianSetOf(const NdtMap& map, const CovarianceFloor& floor) {
         floored.covariance = flooredCovariance(g.covariance, floor);
         set.emplace(g.cell, floored);
       },
-      /*regularized=*/false);
+      Covariance::Exact);
   return set;
 }
 

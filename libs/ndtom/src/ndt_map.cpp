@@ -7,11 +7,27 @@
 
 #include "ndtom/cell_rules.h"
 #include "ndtom/map_queries.h"
+#include "map_block.h"
 #include "scan_update.h"
 
 namespace ndtom {
 
-bool NdtMap::Block::eraseStats(int i) {
+namespace {
+
+void visitBlock(const CellIndex& block_index, const MapBlock& block,
+                void (*visit)(void*, const CellView&), void* f) {
+  if (block.known.none()) return;
+  const CellStats* next = block.stats.data();  // cells with statistics come in offset order
+  for (int i = 0; i < kBlockCells; ++i) {
+    if (!block.known[i]) continue;
+    visit(f, CellView{cellInBlock(block_index, i), block.logodds[i],
+                      block.hasStats(i) ? next++ : nullptr});
+  }
+}
+
+}  // namespace
+
+bool MapBlock::eraseStats(int i) {
   const auto pos = stats.begin() + std::ptrdiff_t(statsPos(i));
   const bool gaussian = pos->hasGaussian();
   stats.erase(pos);
@@ -19,10 +35,9 @@ bool NdtMap::Block::eraseStats(int i) {
   return gaussian;
 }
 
-NdtMap::Scratch::Scratch() : p_(std::make_unique<ScanScratch>()) {}
-NdtMap::Scratch::~Scratch() = default;
-NdtMap::Scratch::Scratch(Scratch&&) noexcept = default;
-NdtMap::Scratch& NdtMap::Scratch::operator=(Scratch&&) noexcept = default;
+NdtMap::~NdtMap() = default;
+NdtMap::NdtMap(NdtMap&&) noexcept = default;
+NdtMap& NdtMap::operator=(NdtMap&&) noexcept = default;
 
 NdtMap::NdtMap(const MapOptions& options) : options_(options), geometry_(options.resolution) {
   validate(options_);
@@ -56,14 +71,8 @@ NdtMap& NdtMap::operator=(const NdtMap& other) {
   return *this;
 }
 
-size_t NdtMap::statsBytes(const std::vector<CellStats>& stats) {
-  // glibc's malloc: a chunk header and rounding to 16 bytes for each statistics array.
-  constexpr size_t kHeapBlockOverhead = 16;
-  return stats.capacity() == 0 ? 0 : stats.capacity() * sizeof(CellStats) + kHeapBlockOverhead;
-}
-
 float NdtMap::clampLogOdds(double l) const {
-  return float(std::clamp(l, options_.occupancy.logodds_min, options_.occupancy.logodds_max));
+  return ndtom::clampLogOdds(l, options_.occupancy);
 }
 
 InsertionReport NdtMap::insertScan(const std::vector<Eigen::Vector3d>& points,
@@ -75,7 +84,8 @@ InsertionReport NdtMap::insertScan(const std::vector<Eigen::Vector3d>& points,
                                    const Eigen::Vector3d& sensor_origin,
                                    const InsertOptions& options) {
   touch();
-  ScanUpdater updater(*this, options, scratch_.get());
+  if (!scratch_) scratch_ = std::make_unique<ScanScratch>();
+  ScanUpdater updater(*this, options, *scratch_);
   return updater.run(points, sensor_origin);
 }
 
@@ -86,6 +96,20 @@ size_t NdtMap::numGaussians() const {
   return n;
 }
 
+void NdtMap::visitCells(CellCallback visit, void* f) const {
+  for (const auto& [block_index, block] : grid_.blocks()) visitBlock(block_index, *block, visit, f);
+}
+
+void NdtMap::visitCellsOrdered(CellCallback visit, void* f) const {
+  std::vector<std::pair<CellIndex, const MapBlock*>> blocks;
+  blocks.reserve(grid_.size());
+  for (const auto& [block_index, block] : grid_.blocks())
+    blocks.emplace_back(block_index, block.get());
+  std::sort(blocks.begin(), blocks.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [block_index, block] : blocks) visitBlock(block_index, *block, visit, f);
+}
+
 size_t NdtMap::numOccupied() const {
   size_t n = 0;
   forEachCell([&](const CellView& c) { n += c.logodds > 0.f; });
@@ -93,7 +117,7 @@ size_t NdtMap::numOccupied() const {
 }
 
 std::optional<CellView> NdtMap::cell(const CellIndex& index) const {
-  const Block* block = grid_.find(blockOf(index));
+  const MapBlock* block = grid_.find(blockOf(index));
   if (!block) return std::nullopt;
   const int i = offsetInBlock(index);
   if (!block->known[i]) return std::nullopt;
@@ -111,20 +135,21 @@ std::optional<double> NdtMap::occupancyProbability(const Eigen::Vector3d& point)
   return ndtom::occupancyProbability(c->logodds);
 }
 
-Gaussian NdtMap::gaussianOf(const CellView& c, bool regularized) const {
+Gaussian NdtMap::gaussianOf(const CellView& c, Covariance covariance) const {
   Gaussian g;
   g.cell = c.index;
   g.n = c.stats->n;
   g.mean = geometry_.cellCenter(c.index) + c.stats->mean;
   g.covariance = c.stats->covariance();
-  if (regularized) g.covariance = regularizedCovariance(g.covariance, options_.regularization);
+  if (covariance == Covariance::Regularized)
+    g.covariance = regularizedCovariance(g.covariance, options_.regularization);
   return g;
 }
 
-std::optional<Gaussian> NdtMap::gaussian(const CellIndex& index, bool regularized) const {
+std::optional<Gaussian> NdtMap::gaussian(const CellIndex& index, Covariance covariance) const {
   const auto c = cell(index);
   if (!c || !c->stats || !c->stats->hasGaussian()) return std::nullopt;
-  return gaussianOf(*c, regularized);
+  return gaussianOf(*c, covariance);
 }
 
 uint64_t NdtMap::maxScanPoints(uint64_t budget) {
@@ -144,7 +169,7 @@ size_t NdtMap::memoryBytesCounted() const {
 void NdtMap::clear() {
   touch();
   grid_.clear();
-  scratch_ = Scratch();
+  scratch_.reset();
   num_cells_ = 0;
   stats_bytes_ = 0;
 }
@@ -197,7 +222,7 @@ bool NdtMap::setCell(const CellIndex& index, float logodds, const CellStats& sta
   if (const char* problem = cellProblem(index, clamped, stats, options_))
     throw std::invalid_argument(std::string("setCell: ") + problem);
   touch();
-  Block* block = grid_.find(blockOf(index));
+  MapBlock* block = grid_.find(blockOf(index));
   if (!block) {
     checkRoomForBlocks(1, "setCell");
     block = &grid_.getOrCreate(blockOf(index));

@@ -157,7 +157,7 @@ NdtMclMap::NdtMclMap(const NdtMap& map) : geometry_(map.geometry()) {
   slots_.resize(capacity);
   gaussians_.reserve(cells.size());
   for (const CellView& c : cells) {
-    const Gaussian g = map.gaussianOf(c, /*regularized=*/true);
+    const Gaussian g = map.gaussianOf(c, Covariance::Regularized);
     size_t at = CellIndexHash()(c.index) & (capacity - 1);
     while (slots_[at].index != kEmpty) at = (at + 1) & (capacity - 1);
     slots_[at] = {c.index, uint32_t(gaussians_.size())};

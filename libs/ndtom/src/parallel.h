@@ -17,8 +17,9 @@
 namespace ndtom {
 
 /// Threads kept from stage to stage and scan to scan: a scan has a dozen parallel stages, and
-/// starting a thread costs about as much as a small stage (~50 µs). Waiting threads spin a
-/// little before they sleep: waking a sleeping thread took 60-80 µs here (a VM), per stage.
+/// starting a thread costs about as much as a small stage. Waiting threads spin a little
+/// before they sleep: waking a sleeping thread costs more than the gap between two stages
+/// (doc/benchmarks.md, "Measurements behind the insertion code").
 class WorkerPool {
  public:
   WorkerPool() = default;

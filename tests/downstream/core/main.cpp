@@ -30,7 +30,7 @@ int main() {
   for (const auto& p : in_cell_111) covariance += (p - mean) * (p - mean).transpose();
   covariance /= double(in_cell_111.size() - 1);
 
-  const auto g = map.gaussian(ndtom::CellIndex{1, 1, 1}, /*regularized=*/false);
+  const auto g = map.gaussian(ndtom::CellIndex{1, 1, 1}, ndtom::Covariance::Exact);
   const bool ok = map.numOccupied() == 2 && map.numGaussians() == 2 && g && g->n == 50 &&
                   (g->mean - mean).norm() < 1e-9 && (g->covariance - covariance).norm() < 1e-9;
   std::printf("occupied %zu, gaussians %zu, cell (1,1,1): n %u, mean error %.3g\n",

@@ -27,7 +27,8 @@ inline int offsetInBlock(const CellIndex& c) {
   return ((c.z & mask) << (2 * kBlockLog2)) | ((c.y & mask) << kBlockLog2) | (c.x & mask);
 }
 
-inline CellIndex cellOf(const CellIndex& block, int offset) {
+/// The cell at `offset` (offsetInBlock()) in `block`.
+inline CellIndex cellInBlock(const CellIndex& block, int offset) {
   constexpr int mask = kBlockEdge - 1;
   return {block.x * kBlockEdge + (offset & mask),
           block.y * kBlockEdge + ((offset >> kBlockLog2) & mask),
@@ -100,26 +101,6 @@ class BlockGrid {
 
  private:
   Map blocks_;
-};
-
-/// Remembers the last block looked up, so runs of cells in one block skip the hash.
-template <class Block>
-class BlockAccessor {
- public:
-  explicit BlockAccessor(BlockGrid<Block>& grid) : grid_(grid) {}
-
-  Block& getOrCreate(const CellIndex& block) {
-    if (!cached_ || block != cached_key_) {
-      cached_ = &grid_.getOrCreate(block);
-      cached_key_ = block;
-    }
-    return *cached_;
-  }
-
- private:
-  BlockGrid<Block>& grid_;
-  Block* cached_ = nullptr;
-  CellIndex cached_key_;
 };
 
 }  // namespace ndtom

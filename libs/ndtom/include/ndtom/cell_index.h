@@ -46,7 +46,7 @@ inline constexpr int32_t kMaxCellIndex = int32_t(1) << 30;
 /// The one range rule for insertion, setCell(), saving and loading: |i| < kMaxCellIndex on
 /// every axis. (Insertion accepted -(2^30 - 1) while setCell and the loader refused it, so a
 /// map could be written that could not be read.)
-inline bool isSupportedCell(const CellIndex& c) {
+[[nodiscard]] inline bool isSupportedCell(const CellIndex& c) {
   for (int a = 0; a < 3; ++a)
     if (!(c[a] > -kMaxCellIndex && c[a] < kMaxCellIndex)) return false;
   return true;
@@ -62,7 +62,7 @@ class GridGeometry {
   double invResolution() const { return inv_resolution_; }
 
   /// False for non-finite points and points whose cell is not isSupportedCell().
-  bool inRange(const Eigen::Vector3d& p) const {
+  [[nodiscard]] bool inRange(const Eigen::Vector3d& p) const {
     for (int a = 0; a < 3; ++a) {
       // floor(s) > -kMaxCellIndex and floor(s) < kMaxCellIndex; false for NaN too.
       const double s = p[a] * inv_resolution_;

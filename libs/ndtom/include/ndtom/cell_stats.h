@@ -44,7 +44,7 @@ struct CellStats {
 
   /// The same statistics expressed relative to a reference point moved by `offset`
   /// (new_ref = old_ref + offset): only the mean changes.
-  CellStats shifted(const Eigen::Vector3d& offset) const {
+  [[nodiscard]] CellStats shifted(const Eigen::Vector3d& offset) const {
     CellStats s = *this;
     s.mean -= offset;
     return s;

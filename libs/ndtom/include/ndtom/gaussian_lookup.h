@@ -90,7 +90,7 @@ void GaussianLookup::forEachAround(const CellIndex& centre, F&& f) const {
         const IndexBlock* block = by_cell_.find({bx, by, bz});
         if (!block) continue;
         // The part of the neighbourhood inside this block.
-        const CellIndex first = cellOf({bx, by, bz}, 0);
+        const CellIndex first = cellInBlock({bx, by, bz}, 0);
         const int32_t x0 = std::max(lo.x, first.x), x1 = std::min(hi.x, first.x + kBlockEdge - 1);
         const int32_t y0 = std::max(lo.y, first.y), y1 = std::min(hi.y, first.y + kBlockEdge - 1);
         const int32_t z0 = std::max(lo.z, first.z), z1 = std::min(hi.z, first.z + kBlockEdge - 1);

@@ -8,11 +8,11 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
-#include <bitset>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <type_traits>
 #include <vector>
 
 #include "ndtom/block_grid.h"
@@ -24,7 +24,13 @@
 
 namespace ndtom {
 
-struct ScanScratch;
+struct MapBlock;     // src/map_block.h
+struct ScanScratch;  // src/scan_update.h
+
+/// The covariance a cell's Gaussian carries: the exact sample covariance (Eq. 3), or that
+/// with its eigenvalues floored (MapOptions::regularization), as the likelihood and the
+/// registration use it.
+enum class Covariance : uint8_t { Regularized, Exact };
 
 /// Read-only view of one known cell.
 struct CellView {
@@ -39,8 +45,9 @@ class NdtMap {
   explicit NdtMap(const MapOptions& options = {});
   NdtMap(const NdtMap& other);
   NdtMap& operator=(const NdtMap& other);
-  NdtMap(NdtMap&&) noexcept = default;
-  NdtMap& operator=(NdtMap&&) noexcept = default;
+  NdtMap(NdtMap&&) noexcept;
+  NdtMap& operator=(NdtMap&&) noexcept;
+  ~NdtMap();
 
   const MapOptions& options() const { return options_; }
   const GridGeometry& geometry() const { return geometry_; }
@@ -62,14 +69,16 @@ class NdtMap {
   size_t numGaussians() const;                    ///< cells with N ≥ 3
   size_t numOccupied() const;                     ///< cells with log-odds > 0
 
-  std::optional<CellView> cell(const CellIndex& index) const;
+  [[nodiscard]] std::optional<CellView> cell(const CellIndex& index) const;
   /// Cell at a point; nullopt if unknown, non-finite or outside the supported range.
-  std::optional<CellView> cellAt(const Eigen::Vector3d& point) const;
+  [[nodiscard]] std::optional<CellView> cellAt(const Eigen::Vector3d& point) const;
   /// p(m | z_1:t) of the cell at `point`; nullopt where nothing is known.
-  std::optional<double> occupancyProbability(const Eigen::Vector3d& point) const;
+  [[nodiscard]] std::optional<double> occupancyProbability(const Eigen::Vector3d& point) const;
   /// World-frame Gaussian of a cell with N ≥ 3, its covariance regularised or exact.
-  std::optional<Gaussian> gaussian(const CellIndex& index, bool regularized = true) const;
-  Gaussian gaussianOf(const CellView& cell, bool regularized = true) const;
+  [[nodiscard]] std::optional<Gaussian> gaussian(
+      const CellIndex& index, Covariance covariance = Covariance::Regularized) const;
+  [[nodiscard]] Gaussian gaussianOf(const CellView& cell,
+                                    Covariance covariance = Covariance::Regularized) const;
 
   /// f(const CellView&) for every known cell, block by block.
   template <class F>
@@ -79,12 +88,12 @@ class NdtMap {
   void forEachCellOrdered(F&& f) const;
   /// f(const Gaussian&) for every cell with N ≥ 3.
   template <class F>
-  void forEachGaussian(F&& f, bool regularized = true) const;
+  void forEachGaussian(F&& f, Covariance covariance = Covariance::Regularized) const;
 
   /// Most points a scan can have under a memory budget of `budget` bytes: each takes ~160
   /// bytes of buffers while it is inserted. For readers, to refuse larger scans before
   /// allocating them.
-  static uint64_t maxScanPoints(uint64_t budget);
+  [[nodiscard]] static uint64_t maxScanPoints(uint64_t budget);
 
   /// Heap bytes used by cells, blocks, index and statistics. O(1): the statistics' share is
   /// kept up to date as they change (the memory budget reads it before every scan).
@@ -106,7 +115,7 @@ class NdtMap {
 
   /// A map `factor` times coarser (Sec. III-B): each coarse cell is the RCU merge of the fine
   /// cells inside it; its log-odds is the largest of theirs (occupied if any part is).
-  NdtMap coarsened(int factor) const;
+  [[nodiscard]] NdtMap coarsened(int factor) const;
 
   void clear();
 
@@ -135,56 +144,22 @@ class NdtMap {
   void shrinkToFit();
 
  private:
-  /// A block's cells, with the statistics of the few that have some packed in offset order:
-  /// most known cells are free space, so a per-cell slot would cost more than the cells.
-  struct Block {
-    static constexpr int kWords = kBlockCells / 64;
-    using Mask = std::array<uint64_t, kWords>;
-
-    std::array<float, kBlockCells> logodds;
-    std::bitset<kBlockCells> known;
-    Mask has_stats{};              ///< bit i: cell i has statistics
-    std::vector<CellStats> stats;  ///< of the cells in has_stats, in offset order
-
-    Block() { logodds.fill(0.f); }
-    bool hasStats(int i) const { return (has_stats[i >> 6] >> (i & 63)) & 1; }
-    /// Position of cell i's statistics in `stats`: how many cells before it have some.
-    size_t statsPos(int i) const {
-      size_t pos = 0;
-      for (int w = 0; w < (i >> 6); ++w) pos += size_t(__builtin_popcountll(has_stats[w]));
-      const uint64_t below = (uint64_t(1) << (i & 63)) - 1;
-      return pos + size_t(__builtin_popcountll(has_stats[i >> 6] & below));
-    }
-    const CellStats* statsOf(int i) const { return hasStats(i) ? &stats[statsPos(i)] : nullptr; }
-    /// Drops cell i's statistics (it has some); never allocates. Returns whether they were a
-    /// Gaussian.
-    bool eraseStats(int i);
-  };
-
-  /// Insertion's reusable buffers: owned, never copied, not part of the map's value.
-  class Scratch {
-   public:
-    Scratch();
-    ~Scratch();
-    Scratch(const Scratch&) : Scratch() {}
-    Scratch& operator=(const Scratch&) { return *this; }
-    Scratch(Scratch&&) noexcept;
-    Scratch& operator=(Scratch&&) noexcept;
-    ScanScratch& get() { return *p_; }
-
-   private:
-    std::unique_ptr<ScanScratch> p_;
-  };
-
   friend class ScanUpdater;
-  friend struct ScanScratch;
 
+  /// The templates above reach the (private) blocks through these: visit(f, cell) per cell.
+  using CellCallback = void (*)(void* f, const CellView& cell);
   template <class F>
-  void forEachCellOfBlock(const CellIndex& block_index, const Block& block, F& f) const;
+  static void callWith(void* f, const CellView& cell) {
+    (*static_cast<std::remove_reference_t<F>*>(f))(cell);
+  }
+  template <class F>
+  static void* erase(F& f) {
+    return const_cast<void*>(static_cast<const void*>(&f));
+  }
+  void visitCells(CellCallback visit, void* f) const;
+  void visitCellsOrdered(CellCallback visit, void* f) const;
 
   float clampLogOdds(double l) const;
-  /// Heap bytes of one block's statistics array (memoryBytes() counts them).
-  static size_t statsBytes(const std::vector<CellStats>& stats);
   /// Half the cell edge: the box the cell-centred means stay in (CellStats::clampMean).
   double halfCell() const { return 0.5 * options_.resolution; }
   /// Throws MemoryBudgetError unless `new_blocks` more blocks fit the memory budget.
@@ -193,46 +168,31 @@ class NdtMap {
 
   MapOptions options_;
   GridGeometry geometry_;
-  BlockGrid<Block> grid_;
+  BlockGrid<MapBlock> grid_;
   size_t num_cells_ = 0;
   size_t stats_bytes_ = 0;  ///< statsBytes() summed over the blocks
   uint64_t revision_ = 0;
-  Scratch scratch_;
+  /// Insertion's buffers and threads, made on first use: not part of the map's value, never
+  /// copied.
+  std::unique_ptr<ScanScratch> scratch_;
 };
 
 // --- Template implementations ------------------------------------------------------------
 
 template <class F>
-void NdtMap::forEachCellOfBlock(const CellIndex& block_index, const Block& block, F& f) const {
-  if (block.known.none()) return;
-  const CellStats* next = block.stats.data();  // cells with statistics come in offset order
-  for (int i = 0; i < kBlockCells; ++i) {
-    if (!block.known[i]) continue;
-    f(CellView{cellOf(block_index, i), block.logodds[i], block.hasStats(i) ? next++ : nullptr});
-  }
-}
-
-template <class F>
 void NdtMap::forEachCell(F&& f) const {
-  for (const auto& [block_index, block] : grid_.blocks())
-    forEachCellOfBlock(block_index, *block, f);
+  visitCells(&callWith<F>, erase(f));
 }
 
 template <class F>
 void NdtMap::forEachCellOrdered(F&& f) const {
-  std::vector<std::pair<CellIndex, const Block*>> blocks;
-  blocks.reserve(grid_.size());
-  for (const auto& [block_index, block] : grid_.blocks())
-    blocks.emplace_back(block_index, block.get());
-  std::sort(blocks.begin(), blocks.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [block_index, block] : blocks) forEachCellOfBlock(block_index, *block, f);
+  visitCellsOrdered(&callWith<F>, erase(f));
 }
 
 template <class F>
-void NdtMap::forEachGaussian(F&& f, bool regularized) const {
+void NdtMap::forEachGaussian(F&& f, Covariance covariance) const {
   forEachCell([&](const CellView& c) {
-    if (c.stats && c.stats->hasGaussian()) f(gaussianOf(c, regularized));
+    if (c.stats && c.stats->hasGaussian()) f(gaussianOf(c, covariance));
   });
 }
 

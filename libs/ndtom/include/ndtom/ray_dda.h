@@ -43,8 +43,8 @@ Walker walkRay(const GridGeometry& geometry, const Eigen::Vector3d& from, const 
 
 /// walkRay for many rays from one origin in one call: for i in [begin, end), the ray from
 /// `from` to *rayEnd(i, walker), skipping rays for which rayEnd returns nullptr (rayEnd may also
-/// set up the walker for its ray). The walker stays in registers from ray to ray; passed and
-/// returned through memory per ray, it stalled on store forwarding (4 % of a scan's time).
+/// set up the walker for its ray). The walker stays in registers from ray to ray: passed and
+/// returned through memory per ray, it would stall on store forwarding.
 template <class Walker, class RayEnd>
 Walker walkRays(const GridGeometry& geometry, const Eigen::Vector3d& from, size_t begin, size_t end,
                 RayEnd&& rayEnd, Walker walker);
@@ -129,8 +129,9 @@ template <class Walker>
 
   for (;;) {
     if (!walker.visit()) return;
-    // Branches beat branch-free selection here on real CPUs (measured: 2x). Each branch
-    // guards against rounding taking the walk past the end of the segment.
+    // Branches, not a branch-free choice of the axis: the branch predicts well
+    // (doc/benchmarks.md). Each branch guards against rounding taking the walk past the end
+    // of the segment.
     if (tx < ty && tx < tz) {
       if (!(tx <= 1.0)) return;
       bx += dx;

@@ -13,7 +13,7 @@ std::vector<FloorColumn> floorColumns(const NdtMap& map, double step, double max
   const bool occupancy = map.options().occupancy.enabled;
   map.forEachCell([&](const CellView& c) {
     if (!c.stats || !c.stats->hasGaussian() || (occupancy && !(c.logodds > 0.f))) return;
-    const Gaussian g = map.gaussianOf(c, /*regularized=*/false);
+    const Gaussian g = map.gaussianOf(c, Covariance::Exact);
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(g.covariance);
     if (std::abs(eig.eigenvectors().col(0).z()) < min_normal_z) return;
     const std::pair<int64_t, int64_t> key{int64_t(std::floor(g.mean.x() / step)),

@@ -1,0 +1,84 @@
+#include "end_groups.h"
+
+#include <algorithm>
+
+namespace ndtom {
+
+void groupEnds(const ScanContext& scan, const ClassifiedPoints& points,
+               const SortedRayEnds& sorted, bool with_means, EndGroups& out,
+               InsertionReport& report) {
+  out.groups.clear();
+  out.hit_blocks.clear();
+  out.has_means = false;
+  const std::vector<uint64_t>& words = sorted.words;
+  const size_t used = words.size();
+  if (used == 0) return;
+  // Groups are runs of equal keys. Threads split the sorted ends at run boundaries; each
+  // gathers its ends (independent loads, instead of a dependent walk per group later) and
+  // counts its runs, then fills its part of the group list.
+  const size_t threads = scan.threadsFor(used, kMinPointsPerThread);
+  out.sorted_ends.resize(used);
+  std::vector<size_t> starts(threads + 1, used), runs(threads + 1, 0);
+  starts[0] = 0;
+  for (size_t t = 1; t < threads; ++t) {
+    size_t start = std::max(partRange(used, threads, t).first, starts[t - 1]);
+    while (start > 0 && start < used && sorted.keyOf(words[start]) == sorted.keyOf(words[start - 1]))
+      ++start;
+    starts[t] = start;
+  }
+  scan.pool.run(threads, [&](size_t t) {
+    constexpr size_t kAhead = 16;  // the loads are random: start them early
+    const size_t begin = starts[t], end = starts[t + 1];
+    for (size_t i = begin; i < end; ++i) {
+      if (i + kAhead < end) __builtin_prefetch(&points.ends[sorted.pointOf(words[i + kAhead])]);
+      out.sorted_ends[i] = points.ends[sorted.pointOf(words[i])];
+    }
+    size_t count = 0;
+    for (size_t i = begin; i < end; ++i)
+      count += i == begin || sorted.keyOf(words[i]) != sorted.keyOf(words[i - 1]);
+    runs[t + 1] = count;
+  });
+  for (size_t t = 0; t < threads; ++t) runs[t + 1] += runs[t];
+  out.groups.resize(runs[threads]);
+  out.has_means = with_means;
+  scan.pool.run(threads, [&](size_t t) {
+    const GridGeometry& geometry = scan.geometry;
+    size_t group = runs[t];
+    for (size_t i = starts[t]; i < starts[t + 1]; ++group) {
+      EndGroup& g = out.groups[group];
+      const uint64_t key = sorted.keyOf(words[i]);
+      g.begin = uint32_t(i);
+      while (i < starts[t + 1] && sorted.keyOf(words[i]) == key) ++i;
+      g.count = uint32_t(i - g.begin);
+      g.hit = SortedRayEnds::isHit(key);
+      // The cell again from the sorted end (read in a row), not end_cells (a random access).
+      g.cell = geometry.cellOf(out.sorted_ends[g.begin]);
+      g.mean = g.mean_end = Eigen::Vector3d::Zero();
+      if (!with_means) continue;
+      // One ray per group, to the mean of its ends.
+      const Eigen::Vector3d centre = geometry.cellCenter(g.cell);
+      for (uint32_t k = g.begin; k < g.begin + g.count; ++k) g.mean += out.sorted_ends[k] - centre;
+      g.mean /= double(g.count);
+      g.mean_end = centre + g.mean;
+    }
+  });
+
+  // Hit cells and their blocks, from the keys.
+  uint64_t last_hit_block = 0;  // block number of out.hit_blocks.back()
+  for (size_t group = 0; group < out.groups.size(); ++group) {
+    if (!out.groups[group].hit) continue;
+    ++report.cells_hit;
+    const uint64_t dense = SortedRayEnds::denseIndex(sorted.keyOf(words[out.groups[group].begin]));
+    const uint64_t block = dense / kBlockCells;
+    if (out.hit_blocks.empty() || block != last_hit_block) {
+      out.hit_blocks.push_back({group, 0, {}});
+      last_hit_block = block;
+    }
+    HitBlock& h = out.hit_blocks.back();
+    h.last_group = group + 1;
+    const uint64_t offset = dense % kBlockCells;
+    h.hits[offset / 64] |= uint64_t(1) << (offset % 64);
+  }
+}
+
+}  // namespace ndtom

@@ -1,0 +1,87 @@
+#include "ray_ends.h"
+
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+#include "../radix_sort.h"
+
+namespace ndtom {
+
+namespace {
+
+/// Bits needed to write `max_value` (at least 1).
+inline int bitsFor(uint64_t max_value) {
+  int bits = 1;
+  while (bits < 64 && (max_value >> bits) != 0) ++bits;
+  return bits;
+}
+
+/// The word of used point `i`, whose end is in the cell of dense index `dense`.
+inline uint64_t rayEndWord(const ClassifiedPoints& points, const SortedRayEnds& out,
+                           uint64_t dense, size_t i) {
+  const uint64_t key = dense << 1 | (points.kinds[i] == PointKind::kHit ? 1u : 0u);
+  return key << out.point_bits | i;
+}
+
+// Keys for ends so far apart that a dense index in their box does not fit a word with the
+// point index (thousands of km at fine resolution: glitches): blocks numbered in the order the
+// points meet them instead, one thread. Returns the key bits.
+int keyByBlockRank(const ClassifiedPoints& points, SortedRayEnds& out) {
+  std::unordered_map<CellIndex, uint64_t, CellIndexHash> rank_of_block;
+  CellIndex last_block{};
+  uint64_t last_rank = UINT64_MAX;  // consecutive points mostly share a block
+  size_t k = 0;
+  for (size_t i = 0; i < points.points(); ++i) {
+    if (points.kinds[i] == PointKind::kRejected) continue;
+    const CellIndex& c = points.end_cells[i];
+    const CellIndex b = blockOf(c);
+    if (last_rank == UINT64_MAX || b != last_block) {
+      last_rank = rank_of_block.try_emplace(b, rank_of_block.size()).first->second;
+      last_block = b;
+    }
+    out.words[k++] = rayEndWord(points, out, last_rank * kBlockCells + uint64_t(offsetInBlock(c)), i);
+  }
+  const int key_bits = bitsFor(2 * kBlockCells * rank_of_block.size() - 1);
+  if (key_bits + out.point_bits > 64)  // over 2^27 points, spread over kilometres
+    throw std::invalid_argument("insertScan: " + std::to_string(points.points()) +
+                                " points spread over " + std::to_string(rank_of_block.size()) +
+                                " blocks are too many for one scan; split it");
+  return key_bits;
+}
+
+}  // namespace
+
+void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points, SortedRayEnds& out) {
+  out.words.clear();
+  if (points.used == 0) return;
+  // Cells keyed by a block-major dense index within the ends' bounding box, so each block's
+  // groups are contiguous (threads can own whole blocks); under 2^14 blocks per axis, because
+  // rays are at most kMaxRayCells long. The key goes above the point's index in one word.
+  out.point_bits = bitsFor(points.points() - 1);
+  out.point_mask = (uint64_t(1) << out.point_bits) - 1;
+  const CellIndex lo = blockOf(points.ends_lo), hi = blockOf(points.ends_hi);
+  const uint64_t nx = uint64_t(hi.x - lo.x) + 1, ny = uint64_t(hi.y - lo.y) + 1;
+  const uint64_t nz = uint64_t(hi.z - lo.z) + 1;
+  int key_bits = bitsFor(2 * kBlockCells * nx * ny * nz - 1);
+  out.words.resize(points.used);
+  if (key_bits + out.point_bits <= 64) {
+    scan.pool.run(points.chunks(), [&](size_t t) {  // classification's chunks
+      size_t k = points.used_before[t];
+      for (size_t i = points.chunk_starts[t]; i < points.chunk_starts[t + 1]; ++i) {
+        if (points.kinds[i] == PointKind::kRejected) continue;
+        const CellIndex& c = points.end_cells[i];
+        const CellIndex b = blockOf(c);
+        const uint64_t block =
+            (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
+        out.words[k++] = rayEndWord(points, out, block * kBlockCells + uint64_t(offsetInBlock(c)), i);
+      }
+    });
+  } else {
+    key_bits = keyByBlockRank(points, out);
+  }
+  radixSortByBits(out.words, out.sort_buffer, out.point_bits, key_bits, scan.pool,
+                  scan.threadsFor(points.used, kMinPointsPerThread));
+}
+
+}  // namespace ndtom
