@@ -88,7 +88,7 @@ size_t NdtMap::numGaussians() const {
 
 size_t NdtMap::numOccupied() const {
   size_t n = 0;
-  forEachCell([&](const CellView& c) { n += c.logodds > 0.f; });
+  forEachCell([&](const CellView& c) { n += cellState(*this, c) == CellState::Occupied; });
   return n;
 }
 
