@@ -147,7 +147,8 @@ inline constexpr std::array<OptionRow, 13> kMapOptionRows = {{
         "Farther points: free ray up to here, no hit (inf: no limit)"),
     optionRow<&MapOptions::insertion, &InsertOptions::ray_mode>(
         "ray_mode", "", OptionType::Enum, OptionScope::Map, {0, 1},
-        "PerPoint (one ray per point) | PerHitCell (faster)", {{"PerPoint", "PerHitCell"}}),
+        "One ray per point (PerPoint) or per hit cell (PerHitCell, faster)",
+        {{"PerPoint", "PerHitCell"}}),
     optionRow<&MapOptions::regularization, &Regularization::min_eigen_ratio>(
         "min_eigen_ratio", "", OptionType::Real, OptionScope::Map, {0, 1},
         "Covariance eigenvalue floor, relative to the largest"),
