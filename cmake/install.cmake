@@ -9,6 +9,15 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/libs/ndtom/include/ DESTINATION ${CMAKE_
 install(EXPORT ndtom-targets NAMESPACE ndtom:: DESTINATION ${NDTOM_CMAKE_DIR})
 
 set(NDTOM_EXPORTED_COMPONENTS "")
+# The evaluation's measures: installed so that users can score their own maps as the paper
+# does (ndtom-eval and ndtom-bench link it statically). Eigen only, as the core.
+if(TARGET ndtom_eval)
+  install(TARGETS ndtom_eval EXPORT ndtom_eval-targets)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/libs/ndtom_eval/include/
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  install(EXPORT ndtom_eval-targets NAMESPACE ndtom:: DESTINATION ${NDTOM_CMAKE_DIR})
+  list(APPEND NDTOM_EXPORTED_COMPONENTS ndtom_eval)
+endif()
 if(TARGET ndtom_io)
   install(TARGETS ndtom_io EXPORT ndtom_io-targets)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/libs/ndtom_io/include/

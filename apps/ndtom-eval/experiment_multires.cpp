@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "experiments.h"
-#include "ndtom/batch_ndt.h"
+#include "ndtom_eval/batch_ndt.h"
 #include "top_view.h"
 
 namespace ndtom::eval {

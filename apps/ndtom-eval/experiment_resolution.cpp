@@ -2,9 +2,9 @@
 // its memory (NdtMap::memoryBytes) and its insertion time per scan (ER: similarity only).
 #include "experiments.h"
 #include "method_colors.h"
-#include "ndtom/batch_ndt.h"
-#include "ndtom/error_refinement.h"
 #include "ndtom_apps/progress.h"
+#include "ndtom_eval/batch_ndt.h"
+#include "ndtom_eval/error_refinement.h"
 
 namespace ndtom::eval {
 

@@ -8,9 +8,9 @@
 
 #include "clouds.h"
 #include "eval_options.h"
-#include "ndtom/map_similarity.h"
 #include "ndtom/ndt_map.h"
 #include "ndtom_apps/csv_table.h"
+#include "ndtom_eval/map_similarity.h"
 
 namespace ndtom::eval {
 

@@ -10,7 +10,7 @@
 #include <future>
 #include <string>
 
-#include "ndtom/atomic_file.h"
+#include "ndtom_internal/atomic_file.h"
 
 namespace ndtom::mapper {
 

@@ -4,12 +4,15 @@
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <fstream>
 #include <functional>
 #include <limits>
 #include <thread>
 
 #include "input_format.h"
+#include "ndtom/option_table.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/run_program.h"
 
@@ -32,59 +35,79 @@ struct KeySpec {
   Setter set;
 };
 
-Setter real(double InsertionOptions::*field, bool allow_infinity = false) {
-  return [=](InsertionOptions& o, const std::string& option, const std::string& text) {
-    o.*field = parseReal(option, text, allow_infinity);
-  };
-}
-
 Setter count(uint32_t InsertionOptions::*field) {
   return [=](InsertionOptions& o, const std::string& option, const std::string& text) {
     o.*field = uint32_t(parseInteger(option, text, 1, std::numeric_limits<int32_t>::max()));
   };
 }
 
-void setRayMode(InsertionOptions& o, const std::string& option, const std::string& text) {
-  // The spellings MRPT's read_enum and the core both understand.
-  if (text == "PerPoint" || text == "0")
-    o.ray_mode = ndtom::RayMode::PerPoint;
-  else if (text == "PerHitCell" || text == "1")
-    o.ray_mode = ndtom::RayMode::PerHitCell;
-  else
-    throw UsageError(option + ": expected PerPoint or PerHitCell, got '" + text + "'");
+// A value of the core's option table, parsed strictly as the row's type and checked at once.
+Setter rowSetter(const ndtom::OptionRow& row) {
+  return [&row](InsertionOptions& o, const std::string& option, const std::string& text) {
+    double value = 0;
+    switch (row.type) {
+      case ndtom::OptionType::Real:
+        value = parseReal(option, text, row.bounds.contains(INFINITY));
+        break;
+      case ndtom::OptionType::Integer:
+        value =
+            double(parseInteger(option, text, int64_t(row.bounds.min), int64_t(row.bounds.max)));
+        break;
+      case ndtom::OptionType::Bool:
+        value = parseBool(option, text) ? 1 : 0;
+        break;
+      case ndtom::OptionType::Enum:
+        // The names, or their numbers, as MRPT's read_enum and the core understand them.
+        value = -1;
+        for (size_t i = 0; i < row.names.size() && row.names[i]; ++i)
+          if (text == row.names[i] || text == std::to_string(i)) value = double(i);
+        if (value < 0)
+          throw UsageError(option + ": expected " + ndtom::optionChoices(row) + ", got '" + text +
+                           "'");
+        break;
+    }
+    try {
+      ndtom::checkOptionValue(row, value);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(option + ": " + e.what());
+    }
+    row.set(o, value);
+  };
 }
 
+// "description [unit] (default)", wrapped to the --help column.
+std::string helpOf(const ndtom::OptionRow& row, const InsertionOptions& defaults) {
+  std::string text = row.description;
+  text[0] = char(std::tolower(static_cast<unsigned char>(text[0])));
+  if (*row.unit) text += std::string(" [") + row.unit + "]";
+  const std::string value = ndtom::optionValueText(row, row.get(defaults));
+  text += row.scope == ndtom::OptionScope::Machine ? " (this machine: " + value + ")"
+                                                   : " (" + value + ")";
+  constexpr size_t kWidth = 62;  // 90 columns less the 28 of the option names
+  for (size_t line_start = 0; text.size() - line_start > kWidth;) {
+    const size_t cut = text.rfind(' ', line_start + kWidth);
+    if (cut == std::string::npos || cut <= line_start) break;
+    text.replace(cut, 1, "\n" + std::string(28, ' '));
+    line_start = cut + 1 + 28;
+  }
+  return text;
+}
+
+InsertionOptions programDefaults();
+
 const std::vector<KeySpec>& keySpecs() {
-  using O = InsertionOptions;
-  static const std::vector<KeySpec> specs = {
-      {{"resolution", "cell edge [m] (0.2)"}, real(&O::resolution)},
-      {{"occupancy_enabled", "ray tracing, Eq. 12; false: Recursive NDT (true)"},
-       [](O& o, const std::string& option, const std::string& text) {
-         o.occupancy_enabled = parseBool(option, text);
-       }},
-      {{"p_hit", "p_o, occupancy of a cell with hits (0.6)"}, real(&O::p_hit)},
-      {{"p_miss", "p_e, occupancy of a cell a ray crosses (0.49)"}, real(&O::p_miss)},
-      {{"logodds_min", "lower log-odds clamp (-2)"}, real(&O::logodds_min)},
-      {{"logodds_max", "upper log-odds clamp (3.5)"}, real(&O::logodds_max)},
-      {{"min_range", "closer points are dropped [m] (0)"}, real(&O::min_range)},
-      {{"max_range", "farther points: free ray to here, no hit [m] (100)"},
-       real(&O::max_range, /*allow_infinity=*/true)},
-      {{"ray_mode", "PerPoint or PerHitCell (PerPoint)"}, setRayMode},
-      {{"decimation", "keep 1 point in N of scans and clouds (1)"}, count(&O::decimation)},
-      {{"decimation_3d_range", "depth images: every N-th row and column (1)"},
-       count(&O::decimation_3d_range)},
-      {{"min_eigen_ratio", "covariance eigenvalue floor / largest (0.01)"},
-       real(&O::min_eigen_ratio)},
-      {{"min_eigen_abs", "covariance eigenvalue floor [m^2] (1e-6)"}, real(&O::min_eigen_abs)},
-      {{"threads", "threads inserting a scan; the same map for any count (the\n" +
-                       std::string(28, ' ') + "machine's cores)"},
-       [](O& o, const std::string& option, const std::string& text) {
-         o.threads = int32_t(parseInteger(option, text, 1, 256));
-       }},
-      {{"memory_budget", "MB the map and a scan may take; larger scans stop the run\n" +
-                             std::string(28, ' ') + "(a quarter of the RAM, at most 512)"},
-       real(&O::memory_budget)},
-  };
+  static const std::vector<KeySpec> specs = [] {
+    const InsertionOptions defaults = programDefaults();
+    std::vector<KeySpec> k;
+    for (const ndtom::OptionRow& row : ndtom::kMapOptionRows)
+      k.push_back({{row.name, helpOf(row, defaults)}, rowSetter(row)});
+    // The plugin's own: how points are taken from observations.
+    k.push_back({{"decimation", "keep 1 point in N of scans and clouds (1)"},
+                 count(&InsertionOptions::decimation)});
+    k.push_back({{"decimation_3d_range", "depth images: every N-th row and column (1)"},
+                 count(&InsertionOptions::decimation_3d_range)});
+    return k;
+  }();
   return specs;
 }
 
@@ -127,8 +150,8 @@ void checkSection(const mrpt::config::CConfigFileBase& file, const std::string& 
 // for any count, so a program has no reason to leave cores idle.
 InsertionOptions programDefaults() {
   InsertionOptions o;
-  o.threads = std::clamp(int32_t(std::thread::hardware_concurrency()), int32_t(1),
-                         int32_t(ndtom::InsertOptions::kMaxThreads));
+  o.insertion.threads = std::clamp(int32_t(std::thread::hardware_concurrency()), int32_t(1),
+                                   int32_t(ndtom::InsertOptions::kMaxThreads));
   return o;
 }
 

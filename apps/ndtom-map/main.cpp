@@ -51,7 +51,7 @@ RunSummary summarize(const MapperOptions& o, const SourceSettings& settings,
   summary.input = o.input;
   summary.format = inputFormatName(settings.format);
   summary.map_options = map.ndtMap().options();
-  summary.threads = map.insertionOptions.threads;
+  summary.threads = map.insertionOptions.insertion.threads;
   summary.mapping = &mapping;
   summary.coarse = coarse;
   summary.peak_rss = ndtom::apps::peakRssBytes();
@@ -85,8 +85,8 @@ int run(const MapperOptions& o) {
   // Insert the scans.
   ndtom::apps::Progress progress(!o.quiet);
   MappingResult mapping =
-      buildMap(std::move(source), settings, {insertion.toMapOptions(), insertion.threads, o.passes},
-               progress);
+      buildMap(std::move(source), settings,
+               {insertion.toMapOptions(), insertion.insertion.threads, o.passes}, progress);
   requireSomePoints(mapping, o.input);
   const size_t peak_rss_after_mapping = ndtom::apps::peakRssBytes();
   StageTimes times(start);

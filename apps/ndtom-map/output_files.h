@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "ndtom/atomic_file.h"
+#include "ndtom_internal/atomic_file.h"
 #include "run_summary.h"
 
 namespace ndtom::mapper {

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "city_route.h"
-#include "ndtom/atomic_file.h"
+#include "ndtom_internal/atomic_file.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"

@@ -12,8 +12,8 @@
 #include <utility>
 
 #include "ndtom/cell_rules.h"
-#include "ndtom/crc32.h"
 #include "ndtom/map_io.h"
+#include "ndtom_internal/crc32.h"
 #include "support/ndtom_file_builder.h"
 
 using Eigen::Vector3d;

@@ -4,8 +4,8 @@
 #include <map>
 #include <random>
 
-#include "ndtom/batch_ndt.h"
 #include "ndtom/ndt_map.h"
+#include "ndtom_eval/batch_ndt.h"
 
 using Eigen::Vector3d;
 using ndtom::CellIndex;

@@ -11,8 +11,8 @@
 #include <optional>
 #include <random>
 
-#include "ndtom/crc32.h"
 #include "ndtom/map_io.h"
+#include "ndtom_internal/crc32.h"
 #include "support/lidar_scans.h"
 #include "support/map_equality.h"
 

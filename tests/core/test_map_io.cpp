@@ -7,9 +7,9 @@
 #include <optional>
 #include <random>
 
-#include "ndtom/atomic_file.h"
-#include "ndtom/crc32.h"
 #include "ndtom/map_io.h"
+#include "ndtom_internal/atomic_file.h"
+#include "ndtom_internal/crc32.h"
 
 using Eigen::Vector3d;
 using ndtom::MapOptions;

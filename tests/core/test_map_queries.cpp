@@ -46,6 +46,34 @@ TEST(MapQueries, WithoutOccupancyCellsWithPointsAreOccupiedAndNothingIsFree) {
     cells += has_points;
   });
   EXPECT_GT(cells, 100u);
+  EXPECT_EQ(map.numOccupied(), cells) << "numOccupied and cellState disagree";
+}
+
+// numOccupied() counts by cellState()'s rule: a known cell at log-odds 0 is unknown, not
+// occupied (nor free).
+TEST(MapQueries, NumOccupiedFollowsCellState) {
+  ndtom::NdtMap map{ndtom::MapOptions{}};
+  ASSERT_TRUE(map.setCell({0, 0, 0}, 0.f, {}));
+  ASSERT_TRUE(map.setCell({1, 0, 0}, -1.f, {}));
+  ASSERT_TRUE(map.setCell({2, 0, 0}, 1.f, {}));
+  ASSERT_TRUE(map.setCell({3, 0, 0}, 2.f, {}));
+  size_t occupied = 0;
+  map.forEachCell([&](const ndtom::CellView& c) {
+    occupied += ndtom::cellState(map, c) == CellState::Occupied;
+  });
+  EXPECT_EQ(occupied, 2u);
+  EXPECT_EQ(map.numOccupied(), 2u);
+
+  // Occupancy off (Recursive NDT): a cell with points is occupied whatever its log-odds (one
+  // at 0, as a file or setCell may hold it, was not counted by "log-odds > 0").
+  ndtom::MapOptions recursive_options;
+  recursive_options.occupancy.enabled = false;
+  ndtom::NdtMap recursive(recursive_options);
+  const ndtom::CellStats points =
+      ndtom::CellStats::fromPoints({{0.01, 0.02, 0}, {-0.03, 0.01, 0.02}, {0.02, -0.01, -0.01}});
+  ASSERT_TRUE(recursive.setCell({0, 0, 0}, 0.f, points));
+  ASSERT_EQ(ndtom::cellState(recursive, *recursive.cell({0, 0, 0})), CellState::Occupied);
+  EXPECT_EQ(recursive.numOccupied(), 1u);
 }
 
 // Entry distance of the ray into the closed box of `cell`, if it meets it within [0, range].

@@ -12,8 +12,8 @@
 #include <map>
 #include <random>
 
-#include "ndtom/batch_ndt.h"
 #include "ndtom/ndt_mcl.h"
+#include "ndtom_eval/batch_ndt.h"
 #include "synthetic_room.h"
 
 using Eigen::Isometry3d;

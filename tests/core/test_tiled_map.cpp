@@ -11,7 +11,7 @@
 #include <set>
 
 #include "ndtom/block_grid.h"
-#include "ndtom/crc32.h"
+#include "ndtom_internal/crc32.h"
 #include "ndtom/tiled_map.h"
 #include "support/lidar_scans.h"
 #include "support/map_equality.h"

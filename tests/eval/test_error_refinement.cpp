@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "ndtom/error_refinement.h"
+#include "ndtom_eval/error_refinement.h"
 
 using Eigen::Matrix3d;
 using Eigen::Vector3d;

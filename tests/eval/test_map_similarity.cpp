@@ -6,9 +6,9 @@
 #include <cmath>
 #include <random>
 
-#include "ndtom/batch_ndt.h"
-#include "ndtom/map_similarity.h"
 #include "ndtom/ndt_map.h"
+#include "ndtom_eval/batch_ndt.h"
+#include "ndtom_eval/map_similarity.h"
 
 using Eigen::Matrix3d;
 using Eigen::Vector3d;

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "ndtom/crc32.h"
 #include "ndtom/map_io.h"
+#include "ndtom_internal/crc32.h"
 
 namespace {
 

@@ -82,9 +82,9 @@ int main(int argc, char** argv) {
   // Recursive NDT (no rays), other ray mode and threads, non-default likelihood and render
   // options.
   CNDTOccupancyMap recursive(1.5);
-  recursive.insertionOptions.occupancy_enabled = false;
-  recursive.insertionOptions.ray_mode = ndtom::RayMode::PerHitCell;
-  recursive.insertionOptions.threads = 2;
+  recursive.insertionOptions.occupancy.enabled = false;
+  recursive.insertionOptions.insertion.ray_mode = ndtom::RayMode::PerHitCell;
+  recursive.insertionOptions.insertion.threads = 2;
   recursive.likelihoodOptions.search_neighbours = false;
   recursive.likelihoodOptions.decimation = 3;
   recursive.likelihoodOptions.likelihood_method = CNDTOccupancyMap::TLikelihoodMethod::NdtMcl;
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
   write(out + "lidar_recursive", serialize(recursive));
 
   CNDTOccupancyMap empty(0.25);
-  empty.insertionOptions.max_range = 30.0;
+  empty.insertionOptions.insertion.max_range = 30.0;
   write(out + "empty", serialize(empty));
 
   // Damaged copies of the first: each must be rejected with an exception.

@@ -205,9 +205,10 @@ TEST(MapApi, VoxelsAgreeWithMrptsOccupancyGrid3d) {
   const auto frames = malagaKeyframes(10);
   ASSERT_EQ(frames.size(), 10u);
   CNDTOccupancyMap ndt(0.2);
-  ndt.insertionOptions.p_hit = 0.865;
-  ndt.insertionOptions.p_miss = 0.4;
-  ndt.insertionOptions.max_range = std::numeric_limits<double>::infinity();  // MRPT: no limit
+  ndt.insertionOptions.occupancy.p_hit = 0.865;
+  ndt.insertionOptions.occupancy.p_miss = 0.4;
+  ndt.insertionOptions.insertion.max_range =
+      std::numeric_limits<double>::infinity();  // MRPT: no limit
   for (const auto& f : frames) ndt.insertObservation(*f.scan, f.pose);
   const mrpt::math::TBoundingBox box = ndt.boundingBox();
   mrpt::maps::COccupancyGridMap3D grid(box.min - mrpt::math::TPoint3D(1, 1, 1),

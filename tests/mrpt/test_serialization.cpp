@@ -33,8 +33,8 @@ std::vector<Vector3d> randomScan(unsigned seed) {
 
 CNDTOccupancyMap::Ptr sampleMap() {
   auto map = CNDTOccupancyMap::Create(0.3);
-  map->insertionOptions.p_hit = 0.65;
-  map->insertionOptions.threads = 3;
+  map->insertionOptions.occupancy.p_hit = 0.65;
+  map->insertionOptions.insertion.threads = 3;
   map->likelihoodOptions.decimation = 3;
   map->likelihoodOptions.likelihood_method = CNDTOccupancyMap::TLikelihoodMethod::NdtMcl;
   map->likelihoodOptions.ndt_mcl_scan_factor = 4;
@@ -93,7 +93,7 @@ TEST(Serialization, ArchiveRoundTripIsExact) {
   const auto copy = roundTrip(*map);
   ASSERT_TRUE(copy);
   expectSameMaps(*map, *copy);
-  EXPECT_EQ(copy->insertionOptions.threads, 3);
+  EXPECT_EQ(copy->insertionOptions.insertion.threads, 3);
   // And it still works: same likelihood-relevant content, can take more data.
   copy->insertPoints(randomScan(9), Vector3d::Zero());
   EXPECT_GT(copy->ndtMap().numCells(), 0u);
@@ -295,7 +295,7 @@ TEST(Serialization, FailedReadLeavesTheMapUnchanged) {
   auto damaged = a.bytes;
   damaged[a.map_data + 60] ^= 0x10;  // the core's checksum fails, after all options were read
   CNDTOccupancyMap map(0.4);
-  map.insertionOptions.p_hit = 0.7;
+  map.insertionOptions.occupancy.p_hit = 0.7;
   map.renderOptions.quantiles = 2.0;
   map.insertPoints(randomScan(5), Vector3d::Zero());
   const auto before = archiveBytes(map);
@@ -320,7 +320,7 @@ TEST(Serialization, CoarsenedCopyIsTheCoresMultiResolutionMap) {
   ASSERT_TRUE(coarse);
   EXPECT_EQ(ndtom::encodeMap(coarse->ndtMap()), ndtom::encodeMap(map->ndtMap().coarsened(3)));
   EXPECT_DOUBLE_EQ(coarse->insertionOptions.resolution, 0.9);
-  EXPECT_EQ(coarse->insertionOptions.p_hit, map->insertionOptions.p_hit);
+  EXPECT_EQ(coarse->insertionOptions.occupancy.p_hit, map->insertionOptions.occupancy.p_hit);
   EXPECT_TRUE(coarse->likelihoodOptions == map->likelihoodOptions);
   EXPECT_TRUE(coarse->renderOptions == map->renderOptions);
   EXPECT_LT(coarse->ndtMap().numCells(), map->ndtMap().numCells());
@@ -357,23 +357,23 @@ TEST(Serialization, ArchiveOfThePreviousVersionLoadsWithOneThread) {
   ASSERT_EQ(old[insertion], 0) << "insertion options version";
 
   CNDTOccupancyMap map(0.5);
-  map.insertionOptions.threads = 4;
+  map.insertionOptions.insertion.threads = 4;
   ASSERT_EQ(readInto(map, old), "");
   const auto& o = map.insertionOptions;
-  EXPECT_EQ(o.threads, 1);
+  EXPECT_EQ(o.insertion.threads, 1);
   EXPECT_EQ(o.resolution, 1.0);
-  EXPECT_TRUE(o.occupancy_enabled);
-  EXPECT_EQ(o.p_hit, 0.65);
-  EXPECT_EQ(o.p_miss, 0.45);
-  EXPECT_EQ(o.logodds_min, -2.5);
-  EXPECT_EQ(o.logodds_max, 3.0);
-  EXPECT_EQ(o.min_range, 0.6);
-  EXPECT_EQ(o.max_range, 8.0);
-  EXPECT_EQ(o.ray_mode, ndtom::RayMode::PerHitCell);
+  EXPECT_TRUE(o.occupancy.enabled);
+  EXPECT_EQ(o.occupancy.p_hit, 0.65);
+  EXPECT_EQ(o.occupancy.p_miss, 0.45);
+  EXPECT_EQ(o.occupancy.logodds_min, -2.5);
+  EXPECT_EQ(o.occupancy.logodds_max, 3.0);
+  EXPECT_EQ(o.insertion.min_range, 0.6);
+  EXPECT_EQ(o.insertion.max_range, 8.0);
+  EXPECT_EQ(o.insertion.ray_mode, ndtom::RayMode::PerHitCell);
   EXPECT_EQ(o.decimation, 2u);
   EXPECT_EQ(o.decimation_3d_range, 3u);
-  EXPECT_EQ(o.min_eigen_ratio, 0.02);
-  EXPECT_EQ(o.min_eigen_abs, 2e-6);
+  EXPECT_EQ(o.regularization.min_eigen_ratio, 0.02);
+  EXPECT_EQ(o.regularization.min_eigen_abs, 2e-6);
   EXPECT_EQ(map.likelihoodOptions.decimation, 4u);
   EXPECT_EQ(map.likelihoodOptions.scale, 0.5);
   EXPECT_EQ(map.likelihoodOptions.likelihood_method, CNDTOccupancyMap::TLikelihoodMethod::Points);
@@ -451,8 +451,8 @@ TEST(Serialization, HandMadeVersion0ArchiveLoadsWithOneThread) {
            v0.begin() + long(a.insertion + kThreadsInInsertionOptions + 4));
   CNDTOccupancyMap map;
   ASSERT_EQ(readInto(map, v0), "");
-  EXPECT_EQ(map.insertionOptions.threads, 1);
-  map.insertionOptions.threads = 3;
+  EXPECT_EQ(map.insertionOptions.insertion.threads, 1);
+  map.insertionOptions.insertion.threads = 3;
   expectSameMaps(*a.map, map);
 }
 
@@ -482,11 +482,11 @@ TEST(Serialization, ArchiveWhoseOptionsDisagreeWithItsMapIsRefused) {
 
 TEST(Serialization, OptionsChangedSinceTheLastInsertionApplyToTheWrittenMap) {
   const auto map = sampleMap();
-  map->insertionOptions.p_miss = 0.45;
-  map->insertionOptions.logodds_min = -1.0;
+  map->insertionOptions.occupancy.p_miss = 0.45;
+  map->insertionOptions.occupancy.logodds_min = -1.0;
   const auto copy = roundTrip(*map);
   ASSERT_TRUE(copy);
-  EXPECT_EQ(copy->insertionOptions.p_miss, 0.45);
+  EXPECT_EQ(copy->insertionOptions.occupancy.p_miss, 0.45);
   // As the next insertion would: the same cells merged into a map with the new bounds.
   ndtom::NdtMap expected(map->insertionOptions.toMapOptions());
   expected.merge(map->ndtMap());

@@ -203,7 +203,7 @@ TEST(Visualization, RecursiveNdtMapsDrawEveryGaussian) {
   // Without occupancy there are no log-odds: every cell with a Gaussian is occupied (the one
   // rule of ndtom/map_queries.h), and nothing is free.
   auto map = CNDTOccupancyMap::Create(0.5);
-  map->insertionOptions.occupancy_enabled = false;
+  map->insertionOptions.occupancy.enabled = false;
   map->renderOptions.show_free_cells = true;
   const auto occupied = sampleMap();
   std::vector<Vector3d> points;

@@ -11,8 +11,8 @@
 
 #include "cases.h"
 #include "hostile_files.h"
-#include "ndtom/crc32.h"
 #include "ndtom/map_io.h"
+#include "ndtom_internal/crc32.h"
 #include "support/ndtom_file_builder.h"
 
 namespace redteam {

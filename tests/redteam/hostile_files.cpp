@@ -14,8 +14,8 @@
 #include <stdexcept>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/crc32.h"
 #include "ndtom/map_io.h"
+#include "ndtom_internal/crc32.h"
 
 namespace redteam {
 

@@ -12,8 +12,8 @@
 
 #include "ndtom/cell_index.h"
 #include "ndtom/cell_stats.h"
-#include "ndtom/crc32.h"
 #include "ndtom/options.h"
+#include "ndtom_internal/crc32.h"
 
 namespace ndtom::testing {
 

@@ -10,6 +10,7 @@
 
 #include "archive_checks.h"
 #include "ndtom/map_io.h"
+#include "ndtom/option_table.h"
 #include "scan_ndt_cache.h"
 
 using mrpt_ndtom::CNDTOccupancyMap;
@@ -62,34 +63,17 @@ struct RegisterClasses {
 namespace mrpt_ndtom {
 namespace {
 
-// The first option in which a and b differ, as "name (a vs b)"; empty if none. Leaves out
-// insertion.threads and memory_budget: they do not change the map, so a new value must not
+// The first option in which a and b differ, as "name (a vs b)"; empty if none. Machine options
+// (threads, memory budget) are left out: they do not change the map, so a new value must not
 // rebuild it (insertPoints passes them with each scan).
 std::string optionDifference(const ndtom::MapOptions& a, const ndtom::MapOptions& b) {
-  const auto differ = [](const char* name, double x, double y) {
-    return x == y ? std::string() : mrpt::format("%s (%.17g vs %.17g)", name, x, y);
-  };
-  const std::pair<const char*, std::pair<double, double>> fields[] = {
-      {"resolution", {a.resolution, b.resolution}},
-      {"occupancy_enabled", {a.occupancy.enabled, b.occupancy.enabled}},
-      {"p_hit", {a.occupancy.p_hit, b.occupancy.p_hit}},
-      {"p_miss", {a.occupancy.p_miss, b.occupancy.p_miss}},
-      {"logodds_min", {a.occupancy.logodds_min, b.occupancy.logodds_min}},
-      {"logodds_max", {a.occupancy.logodds_max, b.occupancy.logodds_max}},
-      {"min_range", {a.insertion.min_range, b.insertion.min_range}},
-      {"max_range", {a.insertion.max_range, b.insertion.max_range}},
-      {"ray_mode", {double(a.insertion.ray_mode), double(b.insertion.ray_mode)}},
-      {"min_eigen_ratio", {a.regularization.min_eigen_ratio, b.regularization.min_eigen_ratio}},
-      {"min_eigen_abs", {a.regularization.min_eigen_abs, b.regularization.min_eigen_abs}}};
-  for (const auto& [name, values] : fields) {
-    std::string d = differ(name, values.first, values.second);
-    if (!d.empty()) return d;
-  }
-  return {};
+  const ndtom::OptionRow* row = ndtom::firstDifference(a, b, ndtom::OptionScope::Map);
+  return row ? mrpt::format("%s (%.17g vs %.17g)", row->name, row->get(a), row->get(b))
+             : std::string();
 }
 
 bool sameOptions(const ndtom::MapOptions& a, const ndtom::MapOptions& b) {
-  return optionDifference(a, b).empty();
+  return !ndtom::firstDifference(a, b, ndtom::OptionScope::Map);
 }
 
 ndtom::MapOptions mapOptionsOf(const CNDTOccupancyMap::TInsertionOptions& options) {
@@ -234,18 +218,8 @@ void CNDTOccupancyMap::applyInsertionOptions() {
 }
 
 void CNDTOccupancyMap::setNdtMap(ndtom::NdtMap map) {
-  const ndtom::MapOptions& o = map.options();
-  insertionOptions.resolution = o.resolution;
-  insertionOptions.occupancy_enabled = o.occupancy.enabled;
-  insertionOptions.p_hit = o.occupancy.p_hit;
-  insertionOptions.p_miss = o.occupancy.p_miss;
-  insertionOptions.logodds_min = o.occupancy.logodds_min;
-  insertionOptions.logodds_max = o.occupancy.logodds_max;
-  insertionOptions.min_range = o.insertion.min_range;
-  insertionOptions.max_range = o.insertion.max_range;
-  insertionOptions.ray_mode = o.insertion.ray_mode;
-  insertionOptions.min_eigen_ratio = o.regularization.min_eigen_ratio;
-  insertionOptions.min_eigen_abs = o.regularization.min_eigen_abs;
+  // The map's own options; the machine's (threads, memory budget) stay this object's.
+  ndtom::copyOptions(map.options(), insertionOptions, ndtom::OptionScope::Map);
   m_map = std::move(map);
   m_last_report = {};
   invalidateLookup();
@@ -260,7 +234,7 @@ CNDTOccupancyMap::Ptr CNDTOccupancyMap::getCoarsened(int factor) const {
   coarse->setNdtMap(m_map.coarsened(factor));
   coarse->insertionOptions.decimation = insertionOptions.decimation;
   coarse->insertionOptions.decimation_3d_range = insertionOptions.decimation_3d_range;
-  coarse->insertionOptions.threads = insertionOptions.threads;
+  coarse->insertionOptions.insertion.threads = insertionOptions.insertion.threads;
   return coarse;
 }
 

@@ -13,6 +13,7 @@
 #include "ini_values.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 #include "ndtom/ndt_likelihood.h"
+#include "ndtom/option_table.h"
 
 namespace mrpt_ndtom {
 namespace {
@@ -55,49 +56,83 @@ void validateStored(const char* what, F&& validate) {
 }  // namespace
 
 // --- TInsertionOptions -------------------------------------------------------------------
+// The core's options come from its table (ndtom/option_table.h), by their row names; the
+// decimations are the plugin's own.
+
+namespace {
+
+// One option of the table from the section, read as its type; a missing key keeps `current`.
+double readOption(const mrpt::config::CConfigFileBase& source, const std::string& section,
+                  const ndtom::OptionRow& row, double current) {
+  switch (row.type) {
+    case ndtom::OptionType::Real:
+      return source.read_double(section, row.name, current);
+    case ndtom::OptionType::Integer:
+      return double(detail::readInteger(source, section, row.name, (long long)current,
+                                        (long long)row.bounds.min, (long long)row.bounds.max));
+    case ndtom::OptionType::Bool:
+      return source.read_bool(section, row.name, current != 0) ? 1.0 : 0.0;
+    case ndtom::OptionType::Enum: {
+      // As MRPT's read_enum: the first word, a value's name or its number.
+      const std::string text = source.read_string_first_word(section, row.name, "");
+      if (text.empty()) return current;
+      for (size_t i = 0; i < row.names.size() && row.names[i]; ++i)
+        if (text == row.names[i]) return double(i);
+      char* end = nullptr;
+      const long number = std::strtol(text.c_str(), &end, 10);
+      if (end != text.c_str() && *end == '\0') return double(number);
+      throw std::invalid_argument(std::string(row.name) + " = " + text + ": expected " +
+                                  ndtom::optionChoices(row));
+    }
+  }
+  return current;
+}
+
+std::string commentOf(const ndtom::OptionRow& row) {
+  std::string comment = row.description;
+  if (*row.unit) comment += std::string(" [") + row.unit + "]";
+  return comment;
+}
+
+}  // namespace
 
 void CNDTOccupancyMap::TInsertionOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& source, const std::string& section) {
-  MRPT_LOAD_CONFIG_VAR(resolution, double, source, section);
-  MRPT_LOAD_CONFIG_VAR(occupancy_enabled, bool, source, section);
-  MRPT_LOAD_CONFIG_VAR(p_hit, double, source, section);
-  MRPT_LOAD_CONFIG_VAR(p_miss, double, source, section);
-  MRPT_LOAD_CONFIG_VAR(logodds_min, double, source, section);
-  MRPT_LOAD_CONFIG_VAR(logodds_max, double, source, section);
-  MRPT_LOAD_CONFIG_VAR(min_range, double, source, section);
-  MRPT_LOAD_CONFIG_VAR(max_range, double, source, section);
-  ray_mode = source.read_enum<ndtom::RayMode>(section, "ray_mode", ray_mode);
+  for (const ndtom::OptionRow& row : ndtom::kMapOptionRows)
+    validateSection(section, [&] {
+      const double value = readOption(source, section, row, row.get(*this));
+      ndtom::checkOptionValue(row, value);  // here, so that the message names this key
+      row.set(*this, value);
+    });
   decimation = readDecimation(source, section, "decimation", decimation);
   decimation_3d_range = readDecimation(source, section, "decimation_3d_range", decimation_3d_range);
-  MRPT_LOAD_CONFIG_VAR(min_eigen_ratio, double, source, section);
-  MRPT_LOAD_CONFIG_VAR(min_eigen_abs, double, source, section);
-  threads = int(detail::readInteger(source, section, "threads", threads, 1,
-                                    ndtom::InsertOptions::kMaxThreads));
-  MRPT_LOAD_CONFIG_VAR(memory_budget, double, source, section);
   validateSection(section, [this] { toMapOptions(); });
 }
 
 void CNDTOccupancyMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                                            const std::string& s) const {
-  MRPT_SAVE_CONFIG_VAR_COMMENT(resolution, "Cell edge [m]");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(occupancy_enabled,
-                               "Occupancy by ray tracing (Eq. 12); false: Recursive NDT");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(p_hit, "p_o: occupancy of a cell with hits, in (0.5, 1)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(p_miss, "p_e: occupancy of a cell a ray crosses, in (0, 0.5)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(logodds_min, "Lower log-odds clamp (< 0)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(logodds_max, "Upper log-odds clamp (> 0)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Closer points are dropped [m]");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(max_range,
-                               "Farther points: free ray up to here, no hit [m] (inf: no limit)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(ray_mode, "PerPoint (one ray per point) | PerHitCell (faster)");
+  const int name_width = mrpt::config::MRPT_SAVE_NAME_PADDING();
+  const int value_width = mrpt::config::MRPT_SAVE_VALUE_PADDING();
+  for (const ndtom::OptionRow& row : ndtom::kMapOptionRows) {
+    const double value = row.get(*this);
+    switch (row.type) {
+      case ndtom::OptionType::Real:
+        c.write(s, row.name, value, name_width, value_width, commentOf(row));
+        break;
+      case ndtom::OptionType::Integer:
+        c.write(s, row.name, int64_t(value), name_width, value_width, commentOf(row));
+        break;
+      case ndtom::OptionType::Bool:
+        c.write(s, row.name, value != 0, name_width, value_width, commentOf(row));
+        break;
+      case ndtom::OptionType::Enum:
+        c.write(s, row.name, ndtom::optionValueText(row, value), name_width, value_width,
+                commentOf(row));
+        break;
+    }
+  }
   MRPT_SAVE_CONFIG_VAR_COMMENT(decimation, "Keep 1 point in N of scans and point clouds");
   MRPT_SAVE_CONFIG_VAR_COMMENT(decimation_3d_range, "Depth images: use every N-th row and column");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(min_eigen_ratio,
-                               "Covariance eigenvalue floor, relative to the largest");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(min_eigen_abs, "Covariance eigenvalue floor [m^2]");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(threads, "Threads inserting a scan, in [1, 256]; same map for any");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(memory_budget,
-                               "MB the map and a scan may take; larger scans are refused");
 }
 
 void CNDTOccupancyMap::TInsertionOptions::dumpToTextStream(std::ostream& out) const {
@@ -108,23 +143,7 @@ void CNDTOccupancyMap::TInsertionOptions::dumpToTextStream(std::ostream& out) co
 ndtom::MapOptions CNDTOccupancyMap::TInsertionOptions::toMapOptions() const {
   if (decimation < 1 || decimation_3d_range < 1)
     throw std::invalid_argument("decimation: must be >= 1");
-  ndtom::MapOptions o;
-  o.resolution = resolution;
-  o.occupancy.enabled = occupancy_enabled;
-  o.occupancy.p_hit = p_hit;
-  o.occupancy.p_miss = p_miss;
-  o.occupancy.logodds_min = logodds_min;
-  o.occupancy.logodds_max = logodds_max;
-  o.insertion.min_range = min_range;
-  o.insertion.max_range = max_range;
-  o.insertion.ray_mode = ray_mode;
-  o.insertion.threads = threads;
-  if (!(memory_budget >= 1 && memory_budget <= 1e12))  // before the conversion to bytes
-    throw std::invalid_argument("memory_budget = " + std::to_string(memory_budget) +
-                                ": must be in [1, 1e12] MB");
-  o.insertion.memory_budget = uint64_t(memory_budget * 1e6);
-  o.regularization.min_eigen_ratio = min_eigen_ratio;
-  o.regularization.min_eigen_abs = min_eigen_abs;
+  const ndtom::MapOptions& o = *this;
   ndtom::validate(o);
   return o;
 }
@@ -133,12 +152,15 @@ TPointExtractionOptions CNDTOccupancyMap::TInsertionOptions::extractionOptions()
   return {decimation, decimation_3d_range};
 }
 
+// A frozen layout, field by field: a new option needs a new version here anyway.
 // Version 1 appends threads to version 0.
 void CNDTOccupancyMap::TInsertionOptions::writeToStream(mrpt::serialization::CArchive& out) const {
   const uint8_t version = 1;
-  out << version << resolution << occupancy_enabled << p_hit << p_miss << logodds_min << logodds_max
-      << min_range << max_range << int32_t(ray_mode) << decimation << decimation_3d_range
-      << min_eigen_ratio << min_eigen_abs << threads;
+  out << version << resolution << occupancy.enabled << occupancy.p_hit << occupancy.p_miss
+      << occupancy.logodds_min << occupancy.logodds_max << insertion.min_range
+      << insertion.max_range << int32_t(insertion.ray_mode) << decimation << decimation_3d_range
+      << regularization.min_eigen_ratio << regularization.min_eigen_abs
+      << int32_t(insertion.threads);
 }
 
 // Reads into a copy and validates it: corrupt data throws (naming the option) and leaves the
@@ -148,20 +170,25 @@ void CNDTOccupancyMap::TInsertionOptions::readFromStream(mrpt::serialization::CA
   uint8_t version;
   in >> version;
   TInsertionOptions read;
-  read.memory_budget = memory_budget;
+  read.insertion.memory_budget = insertion.memory_budget;
   switch (version) {
     case 0:
     case 1: {
       int32_t mode;
       in >> read.resolution;
-      read.occupancy_enabled = detail::readBool(in, "insertionOptions.occupancy_enabled");
-      in >> read.p_hit >> read.p_miss >> read.logodds_min >> read.logodds_max >> read.min_range >>
-          read.max_range >> mode >> read.decimation >> read.decimation_3d_range >>
-          read.min_eigen_ratio >> read.min_eigen_abs;
+      read.occupancy.enabled = detail::readBool(in, "insertionOptions.occupancy_enabled");
+      in >> read.occupancy.p_hit >> read.occupancy.p_miss >> read.occupancy.logodds_min >>
+          read.occupancy.logodds_max >> read.insertion.min_range >> read.insertion.max_range >>
+          mode >> read.decimation >> read.decimation_3d_range >>
+          read.regularization.min_eigen_ratio >> read.regularization.min_eigen_abs;
       if (mode != int32_t(ndtom::RayMode::PerPoint) && mode != int32_t(ndtom::RayMode::PerHitCell))
         THROW_EXCEPTION(mrpt::format("insertionOptions.ray_mode = %d: unknown ray mode", mode));
-      read.ray_mode = ndtom::RayMode(mode);
-      if (version >= 1) in >> read.threads;
+      read.insertion.ray_mode = ndtom::RayMode(mode);
+      if (version >= 1) {
+        int32_t threads;
+        in >> threads;
+        read.insertion.threads = threads;
+      }
     } break;
     default:
       MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
@@ -171,13 +198,8 @@ void CNDTOccupancyMap::TInsertionOptions::readFromStream(mrpt::serialization::CA
 }
 
 bool CNDTOccupancyMap::TInsertionOptions::operator==(const TInsertionOptions& o) const {
-  return resolution == o.resolution && occupancy_enabled == o.occupancy_enabled &&
-         p_hit == o.p_hit && p_miss == o.p_miss && logodds_min == o.logodds_min &&
-         logodds_max == o.logodds_max && min_range == o.min_range && max_range == o.max_range &&
-         ray_mode == o.ray_mode && decimation == o.decimation &&
-         decimation_3d_range == o.decimation_3d_range && min_eigen_ratio == o.min_eigen_ratio &&
-         min_eigen_abs == o.min_eigen_abs && threads == o.threads &&
-         memory_budget == o.memory_budget;
+  return static_cast<const ndtom::MapOptions&>(*this) == static_cast<const ndtom::MapOptions&>(o) &&
+         decimation == o.decimation && decimation_3d_range == o.decimation_3d_range;
 }
 
 // --- TLikelihoodOptions ------------------------------------------------------------------

@@ -1,4 +1,4 @@
-#include "ndtom/atomic_file.h"
+#include "ndtom_internal/atomic_file.h"
 
 #include <fcntl.h>
 #include <unistd.h>

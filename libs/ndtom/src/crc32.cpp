@@ -1,4 +1,4 @@
-#include "ndtom/crc32.h"
+#include "ndtom_internal/crc32.h"
 
 #include <array>
 

@@ -1,8 +1,8 @@
 #include "ndtom/gaussian_lookup.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 
+#include "ndtom/eigen_floor.h"
 #include "ndtom/map_queries.h"
 
 namespace ndtom {
@@ -17,10 +17,10 @@ PreparedGaussian prepare(const Gaussian& g) {
   p.cell = g.cell;
   p.n = g.n;
   p.mean = g.mean;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(g.covariance);
-  Eigen::Vector3d lambda = eig.eigenvalues().cwiseMax(kMinEigenvalue);  // ascending
-  const Eigen::Matrix3d& v = eig.eigenvectors();
-  p.covariance = v * lambda.asDiagonal() * v.transpose();
+  const FlooredEigen floored = floorEigenvalues(g.covariance, kMinEigenvalue);
+  const Eigen::Vector3d& lambda = floored.values;  // ascending
+  const Eigen::Matrix3d& v = floored.vectors;
+  p.covariance = floored.matrix();
   p.information = v * lambda.cwiseInverse().asDiagonal() * v.transpose();
   p.max_variance = lambda[2];
   p.projection = v * (lambda[0] * lambda.cwiseInverse()).asDiagonal() * v.transpose();

@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <functional>
 #include <unordered_set>
 
 #include "map_codec.h"
-#include "ndtom/atomic_file.h"
 #include "ndtom/cell_rules.h"
-#include "ndtom/crc32.h"
 #include "ndtom/input_file.h"
+#include "ndtom/option_table.h"
+#include "ndtom_internal/atomic_file.h"
+#include "ndtom_internal/crc32.h"
 
 namespace ndtom {
 namespace {
@@ -21,51 +21,17 @@ using detail::ByteWriter;
 constexpr char kMagic[8] = {'N', 'D', 'T', 'O', 'M', 'M', 'A', 'P'};
 constexpr uint32_t kMaxOptions = 256;
 
-/// By bits: −0 would load as false and save as +0, a file that does not load back to itself.
-bool exactly0or1(double v) {
-  return (v == 0.0 && !std::signbit(v)) || v == 1.0;
+// The file stores the Map-scope rows of the option table, in its order, as (name, f64).
+template <class F>
+void forEachStoredOption(F&& f) {
+  for (const OptionRow& row : kMapOptionRows)
+    if (row.scope == OptionScope::Map) f(row);
 }
 
-/// Every option the file stores, with how to read it from and write it into MapOptions.
-struct OptionField {
-  const char* name;
-  std::function<double(const MapOptions&)> get;
-  std::function<void(MapOptions&, double)> set;
-};
-
-const std::vector<OptionField>& optionFields() {
-  static const std::vector<OptionField> fields = {
-      {"resolution", [](const MapOptions& o) { return o.resolution; },
-       [](MapOptions& o, double v) { o.resolution = v; }},
-      {"occupancy_enabled", [](const MapOptions& o) { return o.occupancy.enabled ? 1.0 : 0.0; },
-       [](MapOptions& o, double v) {
-         // Exactly 0 or 1: 0.5, 2 or NaN would otherwise read as true.
-         if (!exactly0or1(v)) throw std::invalid_argument("occupancy_enabled: not 0 or 1");
-         o.occupancy.enabled = v == 1.0;
-       }},
-      {"p_hit", [](const MapOptions& o) { return o.occupancy.p_hit; },
-       [](MapOptions& o, double v) { o.occupancy.p_hit = v; }},
-      {"p_miss", [](const MapOptions& o) { return o.occupancy.p_miss; },
-       [](MapOptions& o, double v) { o.occupancy.p_miss = v; }},
-      {"logodds_min", [](const MapOptions& o) { return o.occupancy.logodds_min; },
-       [](MapOptions& o, double v) { o.occupancy.logodds_min = v; }},
-      {"logodds_max", [](const MapOptions& o) { return o.occupancy.logodds_max; },
-       [](MapOptions& o, double v) { o.occupancy.logodds_max = v; }},
-      {"min_range", [](const MapOptions& o) { return o.insertion.min_range; },
-       [](MapOptions& o, double v) { o.insertion.min_range = v; }},
-      {"max_range", [](const MapOptions& o) { return o.insertion.max_range; },
-       [](MapOptions& o, double v) { o.insertion.max_range = v; }},
-      {"ray_mode", [](const MapOptions& o) { return double(int(o.insertion.ray_mode)); },
-       [](MapOptions& o, double v) {
-         if (!exactly0or1(v)) throw std::invalid_argument("ray_mode: unknown value");
-         o.insertion.ray_mode = RayMode(int(v));
-       }},
-      {"min_eigen_ratio", [](const MapOptions& o) { return o.regularization.min_eigen_ratio; },
-       [](MapOptions& o, double v) { o.regularization.min_eigen_ratio = v; }},
-      {"min_eigen_abs", [](const MapOptions& o) { return o.regularization.min_eigen_abs; },
-       [](MapOptions& o, double v) { o.regularization.min_eigen_abs = v; }},
-  };
-  return fields;
+size_t storedOptionCount() {
+  size_t n = 0;
+  forEachStoredOption([&](const OptionRow&) { ++n; });
+  return n;
 }
 
 MapOptions readOptions(ByteReader& in) {
@@ -77,18 +43,16 @@ MapOptions readOptions(ByteReader& in) {
     std::string name(in.u8(), '\0');
     in.bytes(name.data(), name.size());
     const double value = in.f64();  // max_range may be +inf; validate() judges the values
-    const auto& fields = optionFields();
-    const auto it = std::find_if(fields.begin(), fields.end(),
-                                 [&](const OptionField& f) { return name == f.name; });
-    if (it == fields.end()) in.fail("unknown option '" + name + "'");
+    const OptionRow* row = findOptionRow(name);
+    if (!row || row->scope != OptionScope::Map) in.fail("unknown option '" + name + "'");
     if (!seen.insert(name).second) in.fail("option '" + name + "' given twice");
-    try {
-      it->set(options, value);
-    } catch (const std::invalid_argument& e) {
-      in.fail(e.what());
-    }
+    // Before set(): a flag of 0.5, 2 or NaN would read as true, −0 would save back as +0.
+    // Reals are judged with the other options by validate().
+    if (row->type != OptionType::Real && !isOfOptionType(*row, value))
+      in.fail(name + (row->type == OptionType::Bool ? ": not 0 or 1" : ": unknown value"));
+    row->set(options, value);
   }
-  if (seen.size() != optionFields().size()) in.fail("missing options");
+  if (seen.size() != storedOptionCount()) in.fail("missing options");
   try {
     validate(options);
   } catch (const std::invalid_argument& e) {
@@ -125,13 +89,13 @@ void encodeMap(const NdtMap& map, const MapByteSink& sink) {
   ByteWriter w(sink);
   w.bytes(kMagic, sizeof(kMagic));
   w.u32(kMapFormatVersion);
-  w.u32(uint32_t(optionFields().size()));
-  for (const OptionField& f : optionFields()) {
-    const std::string name = f.name;
+  w.u32(uint32_t(storedOptionCount()));
+  forEachStoredOption([&](const OptionRow& row) {
+    const std::string name = row.name;
     w.u8(uint8_t(name.size()));
     w.bytes(name.data(), name.size());
-    w.f64(f.get(map.options()));
-  }
+    w.f64(row.get(map.options()));
+  });
   detail::encodeBlocks(map, w);
   w.finish();
 }

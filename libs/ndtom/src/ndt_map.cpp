@@ -112,7 +112,7 @@ void NdtMap::visitCellsOrdered(CellCallback visit, void* f) const {
 
 size_t NdtMap::numOccupied() const {
   size_t n = 0;
-  forEachCell([&](const CellView& c) { n += c.logodds > 0.f; });
+  forEachCell([&](const CellView& c) { n += cellState(*this, c) == CellState::Occupied; });
   return n;
 }
 

@@ -4,13 +4,28 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "ndtom/option_table.h"
+#include "option_error.h"
+
 namespace ndtom {
 namespace {
 
-[[noreturn]] void fail(const char* option, double value, const char* why) {
-  std::ostringstream msg;
-  msg << option << " = " << value << ": " << why;
-  throw std::invalid_argument(msg.str());
+std::string interval(const OptionBounds& b) {
+  std::ostringstream s;
+  s << (b.min_open ? '(' : '[') << b.min << ", " << b.max << (b.max_open ? ')' : ']');
+  return s.str();
+}
+
+size_t enumCount(const OptionRow& row) {
+  size_t n = 0;
+  while (n < row.names.size() && row.names[n]) ++n;
+  return n;
+}
+
+// Every row checked on `o`; a sub-struct is validated inside default options, which are valid,
+// so only its own fields can fail.
+void validateRows(const MapOptions& o) {
+  for (const OptionRow& row : kMapOptionRows) checkOptionValue(row, row.get(o));
 }
 
 }  // namespace
@@ -38,46 +53,100 @@ double OccupancyOptions::missLogOdds() const {
   return std::log(p_miss / (1.0 - p_miss));
 }
 
+const OptionRow* findOptionRow(const std::string& name) {
+  for (const OptionRow& row : kMapOptionRows)
+    if (name == row.name) return &row;
+  return nullptr;
+}
+
+double optionDefault(const OptionRow& row) {
+  return row.get(MapOptions());
+}
+
+bool isOfOptionType(const OptionRow& row, double value) {
+  switch (row.type) {
+    case OptionType::Real:
+      return !std::isnan(value);
+    case OptionType::Integer:
+      return std::isfinite(value) && value == std::floor(value) &&
+             !(value == 0 && std::signbit(value));
+    case OptionType::Bool:
+      return (value == 0.0 && !std::signbit(value)) || value == 1.0;
+    case OptionType::Enum:
+      return (value == 0.0 && !std::signbit(value)) ||
+             (value == std::floor(value) && value >= 1 && value < double(enumCount(row)));
+  }
+  return false;
+}
+
+void checkOptionValue(const OptionRow& row, double value) {
+  if (row.type == OptionType::Bool && !isOfOptionType(row, value))
+    failOption(row.name, value, "must be 0 or 1");
+  if (row.type == OptionType::Enum && !isOfOptionType(row, value))
+    failOption(row.name, value, ("must be " + optionChoices(row) + " (or its number)").c_str());
+  if (!isOfOptionType(row, value) || !row.bounds.contains(value)) {
+    std::string why = std::string("must be ") +
+                      (row.type == OptionType::Integer ? "an integer in " : "in ") +
+                      interval(row.bounds);
+    if (*row.unit) why += std::string(" ") + row.unit;
+    failOption(row.name, value, why.c_str());
+  }
+}
+
+std::string optionChoices(const OptionRow& row) {
+  const size_t n = enumCount(row);
+  std::string text;
+  for (size_t i = 0; i < n; ++i)
+    text += std::string(i == 0 ? "" : i + 1 == n ? " or " : ", ") + row.names[i];
+  return text;
+}
+
+std::string optionValueText(const OptionRow& row, double value) {
+  if (row.type == OptionType::Bool) return value != 0 ? "true" : "false";
+  if (row.type == OptionType::Enum && isOfOptionType(row, value)) return row.names[size_t(value)];
+  std::ostringstream s;
+  s << value;
+  return s.str();
+}
+
+const OptionRow* firstDifference(const MapOptions& a, const MapOptions& b, OptionScope scope) {
+  for (const OptionRow& row : kMapOptionRows)
+    if (row.scope == scope && !(row.get(a) == row.get(b))) return &row;
+  return nullptr;
+}
+
+void copyOptions(const MapOptions& from, MapOptions& to, OptionScope scope) {
+  for (const OptionRow& row : kMapOptionRows)
+    if (row.scope == scope) row.set(to, row.get(from));
+}
+
+bool operator==(const MapOptions& a, const MapOptions& b) {
+  return !firstDifference(a, b, OptionScope::Map) && !firstDifference(a, b, OptionScope::Machine);
+}
+
 void validate(const OccupancyOptions& o) {
-  if (!(o.p_hit > 0.5 && o.p_hit < 1.0))
-    fail("p_hit", o.p_hit, "must be in (0.5, 1): a hit is evidence of occupancy");
-  if (!(o.p_miss > 0.0 && o.p_miss < 0.5))
-    fail("p_miss", o.p_miss,
-         "must be in (0, 0.5): a ray crossing a cell is evidence of free space");
-  if (!(std::isfinite(o.logodds_min) && o.logodds_min < 0))
-    fail("logodds_min", o.logodds_min, "must be finite and < 0");
-  if (!(std::isfinite(o.logodds_max) && o.logodds_max > 0))
-    fail("logodds_max", o.logodds_max, "must be finite and > 0");
+  MapOptions m;
+  m.occupancy = o;
+  validateRows(m);
 }
 
 void validate(const InsertOptions& o) {
-  if (!(std::isfinite(o.min_range) && o.min_range >= 0))
-    fail("min_range", o.min_range, "must be finite and >= 0");
-  if (!(o.max_range > 0) || std::isnan(o.max_range))
-    fail("max_range", o.max_range, "must be > 0 (inf for no limit)");
-  if (!(o.max_range > o.min_range)) fail("max_range", o.max_range, "must be > min_range");
-  static_assert(InsertOptions::kMaxThreads == 256, "the message below");
-  if (!(o.threads >= 1 && o.threads <= InsertOptions::kMaxThreads))
-    fail("threads", o.threads, "must be in [1, 256]");
-  if (o.ray_mode != RayMode::PerPoint && o.ray_mode != RayMode::PerHitCell)
-    fail("ray_mode", double(int(o.ray_mode)), "unknown ray mode");
-  if (!(o.memory_budget >= kMinMemoryBudget))
-    fail("memory_budget", double(o.memory_budget), "must be at least 1000000 bytes (1 MB)");
+  MapOptions m;
+  m.insertion = o;
+  validateRows(m);
+  if (!(o.max_range > o.min_range)) failOption("max_range", o.max_range, "must be > min_range");
 }
 
 void validate(const Regularization& r) {
-  if (!(r.min_eigen_ratio >= 0 && r.min_eigen_ratio <= 1))
-    fail("min_eigen_ratio", r.min_eigen_ratio, "must be in [0, 1]");
-  if (!(std::isfinite(r.min_eigen_abs) && r.min_eigen_abs >= 0))
-    fail("min_eigen_abs", r.min_eigen_abs, "must be finite and >= 0");
+  MapOptions m;
+  m.regularization = r;
+  validateRows(m);
 }
 
 void validate(const MapOptions& o) {
-  if (!(o.resolution >= kMinResolution && o.resolution <= kMaxResolution))
-    fail("resolution", o.resolution, "must be in [0.001, 1000] m");
-  validate(o.occupancy);
-  validate(o.insertion);
-  validate(o.regularization);
+  validateRows(o);
+  if (!(o.insertion.max_range > o.insertion.min_range))
+    failOption("max_range", o.insertion.max_range, "must be > min_range");
 }
 
 }  // namespace ndtom

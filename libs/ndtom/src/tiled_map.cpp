@@ -7,9 +7,9 @@
 #include <map>
 #include <optional>
 
-#include "ndtom/atomic_file.h"
+#include "ndtom_internal/atomic_file.h"
 #include "ndtom/block_grid.h"
-#include "ndtom/crc32.h"
+#include "ndtom_internal/crc32.h"
 
 namespace ndtom {
 namespace {

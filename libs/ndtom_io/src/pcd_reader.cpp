@@ -5,9 +5,9 @@
 #include <sstream>
 
 #include "lzf.h"
-#include "ndtom/atomic_file.h"
 #include "ndtom/checked_size.h"
 #include "ndtom/input_file.h"
+#include "ndtom_internal/atomic_file.h"
 
 namespace ndtom::io {
 namespace {

@@ -54,9 +54,11 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
   CNDTOccupancyMap& operator=(const CNDTOccupancyMap& other);
   ~CNDTOccupancyMap() override = default;
 
-  /// How observations are inserted (paper Sec. III). Changes apply at the next insertion;
-  /// the resolution can only change while the map is empty.
-  class TInsertionOptions : public mrpt::config::CLoadableOptions {
+  /// How observations are inserted (paper Sec. III): the core's MapOptions (resolution,
+  /// occupancy.p_hit, insertion.threads, ...; see ndtom/option_table.h for every option, its
+  /// .ini key, unit and bounds) plus how points are taken from observations. Changes apply at
+  /// the next insertion; the resolution can only change while the map is empty.
+  class TInsertionOptions : public mrpt::config::CLoadableOptions, public ndtom::MapOptions {
    public:
     /// Throws (naming the section and option) if a loaded value is invalid.
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
@@ -66,28 +68,8 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
     /// The options under a header naming them, as MRPT's own options print.
     void dumpToTextStream(std::ostream& out) const override;
 
-    double resolution{0.2};        ///< Cell edge (Default: 0.2 m)
-    bool occupancy_enabled{true};  ///< false: Recursive NDT, no ray tracing (Default: true)
-    double p_hit{0.6};             ///< p_o of Eq. 12, in (0.5, 1) (Default: 0.6)
-    double p_miss{0.49};           ///< p_e of Eq. 12, in (0, 0.5) (Default: 0.49)
-    double logodds_min{-2.0};      ///< Lower log-odds clamp, < 0 (Default: -2)
-    double logodds_max{3.5};       ///< Upper log-odds clamp, > 0 (Default: 3.5)
-    double min_range{0.0};         ///< Closer points are dropped (Default: 0 m)
-    /// Farther points give a free ray truncated here and no hit; inf for no limit
-    /// (Default: 100 m, see ndtom::kDefaultMaxRange)
-    double max_range{ndtom::kDefaultMaxRange};
-    ndtom::RayMode ray_mode{ndtom::RayMode::PerPoint};  ///< PerPoint|PerHitCell (Default: PerPoint)
     uint32_t decimation{1};           ///< Keep 1 point in N of scans and clouds (Default: 1)
     uint32_t decimation_3d_range{1};  ///< Depth images: every N-th row and column (Default: 1)
-    double min_eigen_ratio{0.01};     ///< Covariance eigenvalue floor / largest (Default: 0.01)
-    double min_eigen_abs{1e-6};       ///< Covariance eigenvalue floor (Default: 1e-6 m²)
-    /// Threads inserting a scan, in [1, 256]; the map is the same for any count (Default: 1)
-    int32_t threads{1};
-    /// Megabytes (10^6 bytes) the map and one scan's working memory may take: a scan that
-    /// would need more is refused and the map left as it was (Default: a quarter of the
-    /// physical memory, at most 512 MB). A setting of the machine, not of the map: not
-    /// serialized (a map read from an archive keeps the reader's).
-    double memory_budget{double(ndtom::defaultMemoryBudget()) / 1e6};
 
     /// The core's options; throws std::invalid_argument naming a bad value.
     ndtom::MapOptions toMapOptions() const;
@@ -154,7 +136,7 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
   // --- The NDT-OM itself ---------------------------------------------------------------
 
   /// The core map (its options are those in force at the last insertion, except `threads`:
-  /// insertPoints() passes insertionOptions.threads with each scan).
+  /// insertPoints() passes insertionOptions.insertion.threads with each scan).
   const ndtom::NdtMap& ndtMap() const { return m_map; }
   /// Replaces the contents, e.g. with a map loaded by ndtom::loadMap(); insertionOptions take
   /// the map's resolution, occupancy and regularisation options.

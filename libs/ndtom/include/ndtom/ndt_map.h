@@ -67,7 +67,7 @@ class NdtMap {
   bool isEmpty() const { return num_cells_ == 0; }
   size_t numCells() const { return num_cells_; }  ///< cells ever observed and not cleared
   size_t numGaussians() const;                    ///< cells with N ≥ 3
-  size_t numOccupied() const;                     ///< cells with log-odds > 0
+  size_t numOccupied() const;  ///< cells cellState() (map_queries.h) calls occupied
 
   [[nodiscard]] std::optional<CellView> cell(const CellIndex& index) const;
   /// Cell at a point; nullopt if unknown, non-finite or outside the supported range.

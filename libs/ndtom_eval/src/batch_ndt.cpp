@@ -1,4 +1,4 @@
-#include "ndtom/batch_ndt.h"
+#include "ndtom_eval/batch_ndt.h"
 
 namespace ndtom {
 

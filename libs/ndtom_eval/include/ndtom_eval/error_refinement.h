@@ -25,7 +25,7 @@
 #include "ndtom/cell_index.h"
 #include "ndtom/cell_stats.h"
 #include "ndtom/gaussian.h"
-#include "ndtom/map_similarity.h"
+#include "ndtom_eval/map_similarity.h"
 
 namespace ndtom {
 

@@ -10,9 +10,9 @@
 #include <unordered_map>
 #include <vector>
 
-#include "ndtom/batch_ndt.h"
 #include "ndtom/cell_index.h"
 #include "ndtom/gaussian.h"
+#include "ndtom_eval/batch_ndt.h"
 
 namespace ndtom {
 

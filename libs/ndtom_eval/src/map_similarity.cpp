@@ -1,12 +1,12 @@
-#include "ndtom/map_similarity.h"
+#include "ndtom_eval/map_similarity.h"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
+#include "ndtom/eigen_floor.h"
 #include "ndtom/ndt_map.h"
 
 namespace ndtom {
@@ -34,12 +34,8 @@ double logDeterminant(const Eigen::LLT<Eigen::Matrix3d>& llt) {
 Eigen::Matrix3d flooredCovariance(const Eigen::Matrix3d& covariance, const CovarianceFloor& floor) {
   if (!(floor.min_eigenvalue > 0.0) || !std::isfinite(floor.min_eigenvalue))
     throw std::invalid_argument("CovarianceFloor.min_eigenvalue: must be finite and > 0");
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(covariance);
-  Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
-  if (lambda[0] >= floor.min_eigenvalue) return covariance;
-  for (int i = 0; i < 3; ++i) lambda[i] = std::max(lambda[i], floor.min_eigenvalue);
-  const Eigen::Matrix3d& v = eig.eigenvectors();
-  return v * lambda.asDiagonal() * v.transpose();
+  const FlooredEigen floored = floorEigenvalues(covariance, floor.min_eigenvalue);
+  return floored.raised ? floored.matrix() : covariance;
 }
 
 double gaussianSimilarity(const Gaussian& f, const Gaussian& g) {

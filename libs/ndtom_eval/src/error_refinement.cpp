@@ -1,4 +1,4 @@
-#include "ndtom/error_refinement.h"
+#include "ndtom_eval/error_refinement.h"
 
 #include <algorithm>
 #include <cmath>
