@@ -85,7 +85,7 @@ int run(const MapperOptions& o) {
   // Insert the scans.
   ndtom::apps::Progress progress(!o.quiet);
   MappingResult mapping =
-      buildMap(std::move(source), settings, {insertion.toMapOptions(), insertion.threads, o.passes},
+      buildMap(std::move(source), settings, {insertion.toMapOptions(), insertion.threads, o.passes, o.motion},
                progress);
   requireSomePoints(mapping, o.input);
   const size_t peak_rss_after_mapping = ndtom::apps::peakRssBytes();
