@@ -4,7 +4,7 @@
 # (apps/ndtom-bench: NDT-OM in both ray modes and OctoMap, time per scan against resolution).
 # Every CSV gets a first line "# commit <hash>[-dirty]": the commit the numbers come from
 # ("-dirty": the sources differed from it; the outputs under doc/evaluation do not count).
-# Takes about 20 minutes on a shared 2-core machine (build not included).
+# Takes about 10 minutes on a shared 2-core machine (build not included).
 # Usage: scripts/evaluate.sh [--only-fig5] [--skip-fig5]
 # Data: ../shared/datasets beside the repository (scripts/fetch-data.sh writes it there), or
 # NDTOM_SHARED_DATASETS=DIR.
