@@ -15,13 +15,14 @@
 #   --balm-raw DIR      no download: convert a local copy of datas/benchmark_realworld
 #   --tum-archive FILE  no download: the TUM sequence's .tgz, already downloaded
 #   --skip-tum          only the lidar scans
+#   --skip-balm         only the TUM frames
 #   --no-verify         skip the checksums (e.g. for other scan counts or a test fixture)
 # Needs curl, tar, python3, sha256sum. The TUM archive is large (the whole sequence, ~1 GB):
 # only 10 frames are kept.
 set -euo pipefail
 repo="$(cd "$(dirname "$0")/.." && pwd)"
 dest="$repo/../shared/datasets"
-scans=60 balm_raw="" tum_archive="" skip_tum=0 verify=1
+scans=60 balm_raw="" tum_archive="" skip_tum=0 skip_balm=0 verify=1
 die() { echo "fetch-data.sh: $*" >&2; exit 1; }
 while (($#)); do
   case "$1" in
@@ -30,6 +31,7 @@ while (($#)); do
     --balm-raw) balm_raw="${2:?--balm-raw needs a folder}"; shift 2 ;;
     --tum-archive) tum_archive="${2:?--tum-archive needs a file}"; shift 2 ;;
     --skip-tum) skip_tum=1; shift ;;
+    --skip-balm) skip_balm=1; shift ;;
     --no-verify) verify=0; shift ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     *) die "unknown option $1 (see --help)" ;;
@@ -50,21 +52,23 @@ fetch() {  # URL FILE: fails on HTTP errors and on a Git LFS pointer instead of 
 }
 
 # --- BALM lidar scans ---------------------------------------------------------------------
-if [[ -z "$balm_raw" ]]; then
-  balm_raw="$work/balm-raw"
-  mkdir -p "$balm_raw"
-  echo "fetch-data.sh: downloading alidarPose.csv and $scans BALM scans" >&2
-  fetch "$BALM_URL/alidarPose.csv" "$balm_raw/alidarPose.csv"
-  for ((i = 0; i < scans; ++i)); do fetch "$BALM_URL/full$i.pcd" "$balm_raw/full$i.pcd"; done
-fi
-[[ -d "$balm_raw" ]] || die "--balm-raw $balm_raw: not a folder"
-python3 "$repo/scripts/balm_convert.py" "$balm_raw" "$dest/balm-realworld" "$scans"
-cat >"$dest/balm-realworld/README.md" <<'TXT'
+if ((!skip_balm)); then
+  if [[ -z "$balm_raw" ]]; then
+    balm_raw="$work/balm-raw"
+    mkdir -p "$balm_raw"
+    echo "fetch-data.sh: downloading alidarPose.csv and $scans BALM scans" >&2
+    fetch "$BALM_URL/alidarPose.csv" "$balm_raw/alidarPose.csv"
+    for ((i = 0; i < scans; ++i)); do fetch "$BALM_URL/full$i.pcd" "$balm_raw/full$i.pcd"; done
+  fi
+  [[ -d "$balm_raw" ]] || die "--balm-raw $balm_raw: not a folder"
+  python3 "$repo/scripts/balm_convert.py" "$balm_raw" "$dest/balm-realworld" "$scans"
+  cat >"$dest/balm-realworld/README.md" <<'TXT'
 BALM 2.0 real-world benchmark (Liu & Zhang, T-RO 2023), hku-mars/BALM datas/benchmark_realworld
 (GPL-2.0), converted by scripts/fetch-data.sh: fullN.pcd keep x y z intensity (sensor frame),
 poses.txt is alidarPose.csv as KITTI lines (sensor -> world, lidar-inertial odometry),
 times.txt its time stamps.
 TXT
+fi
 
 # --- TUM RGB-D frames ---------------------------------------------------------------------
 if ((!skip_tum)); then
@@ -94,7 +98,10 @@ if ((verify)); then
   sums="$work/expected.sha256"
   grep -v '^#' "$repo/scripts/data-checksums.sha256" | while read -r sum path; do
     case "$path" in
-      balm-realworld/full*.pcd) n="${path#balm-realworld/full}"; ((${n%.pcd} < scans)) || continue ;;
+      balm-realworld/full*.pcd)
+        n="${path#balm-realworld/full}"
+        ((!skip_balm && ${n%.pcd} < scans)) || continue ;;
+      balm-*) ((!skip_balm)) || continue ;;
       tum-*) ((!skip_tum)) || continue ;;
     esac
     echo "$sum  $path"

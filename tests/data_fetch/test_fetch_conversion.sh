@@ -42,8 +42,28 @@ check() {  # SOURCE_DIR SCANS WHOLE_FILES
 check "$repo/tests/data/balm-realworld" 10 0
 if [[ -f "$shared/balm-realworld/poses.txt" ]]; then
   check "$shared/balm-realworld" 4 1
+  # All 60 scans, checked against scripts/data-checksums.sha256 as a download would be.
+  python3 "$repo/tests/data_fetch/make_balm_raw.py" "$shared/balm-realworld" "$work/raw60" 60
+  "$repo/scripts/fetch-data.sh" --balm-raw "$work/raw60" --dest "$work/out60" --skip-tum ||
+    fail "60 shared scans do not convert to their checksums"
+  echo "ok: 60 shared scans match scripts/data-checksums.sha256"
 else
-  echo "skipped: no shared copy at $shared"
+  echo "skipped: no shared lidar copy at $shared"
+fi
+if [[ -f "$shared/tum-fr2-pioneer-slam2/associations.txt" ]]; then
+  # The TUM archive's layout, with the shared frames (plus one the script must leave out).
+  seq_dir="$work/tum/rgbd_dataset_freiburg2_pioneer_slam2"
+  mkdir -p "$seq_dir"
+  cp -r "$shared/tum-fr2-pioneer-slam2/depth" "$shared/tum-fr2-pioneer-slam2/rgb" "$seq_dir/"
+  cp "$seq_dir/depth/$(ls "$seq_dir/depth" | head -n1)" "$seq_dir/depth/1311877999.000000.png"
+  tar -czf "$work/tum.tgz" -C "$work/tum" rgbd_dataset_freiburg2_pioneer_slam2
+  "$repo/scripts/fetch-data.sh" --tum-archive "$work/tum.tgz" --dest "$work/outtum" --skip-balm ||
+    fail "TUM frames from an archive do not match their checksums"
+  [[ ! -e "$work/outtum/tum-fr2-pioneer-slam2/depth/1311877999.000000.png" ]] ||
+    fail "a frame outside associations.txt was copied"
+  echo "ok: TUM frames from an archive match scripts/data-checksums.sha256"
+else
+  echo "skipped: no shared TUM copy at $shared"
 fi
 
 # Bad input: a truncated scan and a pose file with a number missing.
