@@ -85,11 +85,11 @@ int run(const MapperOptions& o) {
   // Insert the scans.
   ndtom::apps::Progress progress(!o.quiet);
   MappingResult mapping =
-      buildMap(std::move(source), settings, {insertion.toMapOptions(), insertion.threads, o.passes, o.motion},
-               progress);
+      buildMap(std::move(source), settings,
+               {insertion.toMapOptions(), insertion.threads, o.passes, o.motion}, progress);
   requireSomePoints(mapping, o.input);
   const size_t peak_rss_after_mapping = ndtom::apps::peakRssBytes();
-  StageTimes times;
+  StageTimes times(start);
   double passes_s = 0, insert_s = 0;
   for (const PassResult& p : mapping.passes) passes_s += p.seconds;
   for (const double s : mapping.insert_seconds) insert_s += s;
@@ -102,8 +102,8 @@ int run(const MapperOptions& o) {
   map.renderOptions = renderOptionsFor(mapping.map, heightScaleOf(mapping.map), o.max_ellipsoids,
                                        o.ellipsoid_detail);
   map.setNdtMap(std::move(mapping.map));
-  const OutputSettings output_settings{o.coarse, o.pictures, o.image_width, o.max_ellipsoids,
-                                       o.octomap};
+  const OutputSettings output_settings{o.coarse,         o.pictures, o.image_width,
+                                       o.max_ellipsoids, o.octomap,  insertion.threads};
   const auto coarse = writeMapOutputs(map, mapping.sensor_path, output_settings, out, times);
 
   // The summary, then every file into place at once.

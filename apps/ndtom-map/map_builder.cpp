@@ -1,6 +1,7 @@
 #include "map_builder.h"
 
 #include <chrono>
+#include <future>
 
 #include "ndtom/map_queries.h"
 #include "ndtom_apps/process_memory.h"
@@ -37,13 +38,40 @@ std::string budgetMessage(const ndtom::MemoryBudgetError& e) {
   return what;
 }
 
+// The scans of a source, the next one read while the current one is inserted when more than
+// one thread may run (reading is a tenth of inserting, on a core insertion does not fill).
+class ScanReader {
+ public:
+  ScanReader(ScanSource& source, bool read_ahead) : source_(source), read_ahead_(read_ahead) {
+    if (read_ahead_) ahead_ = readAhead();
+  }
+  ~ScanReader() {
+    if (ahead_.valid()) ahead_.wait();  // it uses the source
+  }
+  std::optional<Scan> next() {
+    if (!read_ahead_) return source_.next();
+    std::optional<Scan> scan = ahead_.get();
+    if (scan) ahead_ = readAhead();
+    return scan;
+  }
+
+ private:
+  std::future<std::optional<Scan>> readAhead() {
+    return std::async(std::launch::async, [this] { return source_.next(); });
+  }
+  ScanSource& source_;
+  bool read_ahead_;
+  std::future<std::optional<Scan>> ahead_;
+};
+
 // One pass: every scan of `source` into `result.map`.
 void insertAll(ScanSource& source, const ndtom::InsertOptions& insert,
                const apps::MotionThresholds& motion, bool first_pass, const std::string& input,
                MappingResult& result, apps::Progress& progress) {
   size_t done = 0, points = 0;
   apps::MotionGate gate(motion);
-  while (auto scan = source.next()) {
+  ScanReader reader(source, insert.threads > 1);
+  while (auto scan = reader.next()) {
     // The sensor's position with the frame's orientation: both move rigidly together.
     Eigen::Isometry3d sensor_pose = scan->frame_pose;
     sensor_pose.translation() = scan->sensor_origin;

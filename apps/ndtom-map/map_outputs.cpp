@@ -5,6 +5,9 @@
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <future>
+
+#include "gzip_members.h"
 #include "height_colors.h"
 #include "ndtom/map_io.h"
 #include "ndtom_apps/run_program.h"
@@ -36,16 +39,23 @@ class SinkStream : public mrpt::io::CStream {
   uint64_t written_ = 0;
 };
 
-void writeMrptMap(const mrpt_ndtom::CNDTOccupancyMap& map, OutputFiles& out) {
-  out.write("mrpt_map", ".ndtommap", [&](const ndtom::FileSink& sink) {
+void writeMrptMap(const mrpt_ndtom::CNDTOccupancyMap& map, const std::string& file) {
+  ndtom::writeFileSynced(file, [&](const ndtom::FileSink& sink) {
     SinkStream stream(sink);
     auto archive = mrpt::serialization::archiveFrom(stream);
     archive << map;
   });
 }
 
+void writeBytes(const std::string& file, const std::string& bytes) {
+  ndtom::writeFileSynced(file, [&](const ndtom::FileSink& sink) { sink(bytes.data(), bytes.size()); });
+}
+
+// What COpenGLScene::saveToFile writes (the scene in an MRPT archive, gzip level 1), but
+// compressed while it is serialised, on `threads` threads: deflate took most of its time.
 void writeScene(const mrpt::opengl::CSetOfObjects::Ptr& gaussians,
-                const std::vector<Eigen::Vector3d>& sensor_path, OutputFiles& out) {
+                const std::vector<Eigen::Vector3d>& sensor_path, const std::string& file,
+                int threads) {
   mrpt::opengl::COpenGLScene scene;
   scene.insert(gaussians);
   auto path = mrpt::opengl::CSetOfLines::Create();
@@ -55,16 +65,15 @@ void writeScene(const mrpt::opengl::CSetOfObjects::Ptr& gaussians,
     path->appendLine(sensor_path[i - 1].x(), sensor_path[i - 1].y(), sensor_path[i - 1].z(),
                      sensor_path[i].x(), sensor_path[i].y(), sensor_path[i].z());
   scene.insert(path);
-  const std::string file = out.stage("scene", ".3Dscene");
-  bool saved = false;
-  try {
-    saved = scene.saveToFile(file);
-  } catch (const std::exception& e) {  // MRPT's messages do not name the file
-    throw std::runtime_error("cannot write " + file + ": " + apps::oneLineMessage(e));
-  }
-  if (!saved) throw std::runtime_error("cannot write " + file);
-  ndtom::syncFile(file);  // as the outputs written here
+  ndtom::writeFileSynced(file, [&](const ndtom::FileSink& sink) {
+    GzipMemberWriter gzip(sink, 1, threads);
+    const ndtom::FileSink into_gzip = [&](const void* data, size_t size) { gzip.write(data, size); };
+    SinkStream stream(into_gzip);
+    mrpt::serialization::archiveFrom(stream) << scene;
+    gzip.finish();
+  });
 }
+
 
 }  // namespace
 
@@ -73,40 +82,72 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
                                              const OutputSettings& settings, OutputFiles& out,
                                              StageTimes& times) {
   const ndtom::NdtMap& ndt = map.ndtMap();
+  // Staged here in a fixed order, written by two lanes in parallel.
+  const std::string map_file = out.stage("map", ".ndtom");
+  const std::string mrpt_file = out.stage("mrpt_map", ".ndtommap");
+  const std::string scene_file = out.stage("scene", ".3Dscene");
+  const std::string top_file = settings.pictures ? out.stage("top_view", ".top.png") : "";
+  const std::string view_file = settings.pictures ? out.stage("view_3d", ".3d.png") : "";
+  const std::string octomap_file = settings.octomap ? out.stage("octomap", ".bt") : "";
+  const bool coarse = settings.coarse >= 2;
+  const std::string coarse_file =
+      coarse ? out.stage("coarse_map", ".coarse" + std::to_string(settings.coarse) + ".ndtom")
+             : "";
+
   // Maps are streamed straight into their files: no copy of the encoding.
-  const auto encode = [](const ndtom::NdtMap& m) {
-    return [&m](const ndtom::FileSink& sink) {
+  const auto writeMap = [](const ndtom::NdtMap& m, const std::string& file) {
+    ndtom::writeFileSynced(file, [&m](const ndtom::FileSink& sink) {
       ndtom::encodeMap(m, [&](const uint8_t* data, size_t size) { sink(data, size); });
-    };
+    });
   };
-  times.time("map", [&] { out.write("map", ".ndtom", encode(ndt)); });
-  times.time("mrpt_map", [&] { writeMrptMap(map, out); });
-  // The ellipsoids once, for the scene and the picture (a mesh of ~100 bytes a triangle).
-  const auto gaussians = mrpt::opengl::CSetOfObjects::Create();
-  times.time("ellipsoids",
-             [&] { mrpt_ndtom::buildNdtVisualization(ndt, map.renderOptions, *gaussians); });
-  times.time("scene", [&] { writeScene(gaussians, sensor_path, out); });
-  if (settings.pictures) {
-    const HeightScale scale{map.renderOptions.color_min_z, map.renderOptions.color_max_z};
-    times.time("top_view", [&] {
-      out.writeBytes("top_view", ".top.png",
-                     pngBytes(renderTopView(ndt, scale, sensor_path, settings.image_width)));
+  // The Gaussians selected and coloured once, for the scene and the picture.
+  std::vector<mrpt_ndtom::DrawnGaussian> drawn;
+  times.time("ellipsoids", [&] { drawn = mrpt_ndtom::drawnGaussians(ndt, map.renderOptions); });
+
+  // The scene's mesh (~100 bytes a triangle) lives only in this lane.
+  StageTimes scene_times(times.origin());
+  const auto writeSceneLane = [&] {
+    const auto gaussians = mrpt::opengl::CSetOfObjects::Create();
+    scene_times.time("scene", [&] {
+      mrpt_ndtom::buildNdtVisualization(ndt, drawn, map.renderOptions, *gaussians);
+      writeScene(gaussians, sensor_path, scene_file, settings.threads);
     });
-    times.time("view_3d", [&] {
-      out.writeBytes("view_3d", ".3d.png",
-                     pngBytes(renderObliqueView(ndt, gaussians, map.renderOptions, sensor_path,
-                                                settings.image_width)));
-    });
+  };
+  std::future<void> scene_lane;
+  if (settings.threads > 1)
+    scene_lane = std::async(std::launch::async, writeSceneLane);
+  else
+    writeSceneLane();
+
+  std::optional<CoarseMapInfo> coarse_info;
+  try {
+    times.time("map", [&] { writeMap(ndt, map_file); });
+    times.time("mrpt_map", [&] { writeMrptMap(map, mrpt_file); });
+    if (settings.pictures) {
+      const HeightScale scale{map.renderOptions.color_min_z, map.renderOptions.color_max_z};
+      times.time("top_view", [&] {
+        writeBytes(top_file, pngBytes(renderTopView(ndt, scale, sensor_path, settings.image_width)));
+      });
+      times.time("view_3d", [&] {
+        writeBytes(view_file, pngBytes(renderObliqueView(ndt, drawn, map.renderOptions,
+                                                         sensor_path, settings.image_width)));
+      });
+    }
+    if (settings.octomap) times.time("octomap", [&] { writeOctomapBinary(ndt, octomap_file); });
+    if (coarse)
+      times.time("coarse_map", [&] {
+        const ndtom::NdtMap coarser = ndt.coarsened(settings.coarse);
+        writeMap(coarser, coarse_file);
+        coarse_info = CoarseMapInfo{settings.coarse, coarser.options().resolution,
+                                    coarser.numCells(), coarser.numGaussians()};
+      });
+  } catch (...) {
+    if (scene_lane.valid()) scene_lane.wait();  // it uses what this frame holds
+    throw;
   }
-  if (settings.octomap)
-    times.time("octomap", [&] { writeOctomapBinary(ndt, out.stage("octomap", ".bt")); });
-  if (settings.coarse < 2) return std::nullopt;
-  return times.time("coarse_map", [&] {
-    const ndtom::NdtMap coarse = ndt.coarsened(settings.coarse);
-    out.write("coarse_map", ".coarse" + std::to_string(settings.coarse) + ".ndtom", encode(coarse));
-    return std::optional<CoarseMapInfo>(CoarseMapInfo{settings.coarse, coarse.options().resolution,
-                                                      coarse.numCells(), coarse.numGaussians()});
-  });
+  if (scene_lane.valid()) scene_lane.get();  // its error, if any
+  times.merge(scene_times);
+  return coarse_info;
 }
 
 }  // namespace ndtom::mapper

@@ -17,9 +17,10 @@ struct OutputSettings {
   int image_width = 1200;
   uint32_t max_ellipsoids = 50000;
   bool octomap = false;  ///< also PREFIX.bt
+  int threads = 1;  ///< above 1, the scene is written beside the other outputs
 };
 
-/// Stages every output in `out` (nothing is committed here):
+/// Stages every output in `out` (nothing is committed here), in this order:
 ///   .ndtom          ndtom::encodeMap of the map
 ///   .ndtommap       the CNDTOccupancyMap in an MRPT archive (CSerializable)
 ///   .3Dscene        ellipsoids and sensor path, for SceneViewer3D

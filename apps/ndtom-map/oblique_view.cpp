@@ -1,15 +1,11 @@
 #include "oblique_view.h"
 
-#include <mrpt/img/CImage.h>
-#include <mrpt/opengl/CFBORender.h>
-#include <mrpt/opengl/COpenGLScene.h>
-#include <mrpt/opengl/CSetOfLines.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 
+#include "depth_canvas.h"
 #include "ndtom/map_queries.h"
 #include "picture_layout.h"
 
@@ -44,16 +40,6 @@ Box robustBox(const ndtom::NdtMap& map) {
     box.hi[k] = v[hi];
   }
   return box;
-}
-
-mrpt::opengl::CSetOfLines::Ptr pathLines(const std::vector<Eigen::Vector3d>& path) {
-  auto lines = mrpt::opengl::CSetOfLines::Create();
-  lines->setColor_u8(0, 0, 0);
-  lines->setLineWidth(2.0f * kSupersampling);
-  for (size_t i = 1; i < path.size(); ++i)
-    lines->appendLine(path[i - 1].x(), path[i - 1].y(), path[i - 1].z(), path[i].x(), path[i].y(),
-                      path[i].z());
-  return lines;
 }
 
 // [first, last] of the indices holding all but `trim` of `counts`' total at each end.
@@ -98,21 +84,21 @@ cv::Mat fitInto(const cv::Mat& image, cv::Size size, int min_width) {
   return out;
 }
 
-cv::Mat renderScene(const mrpt::opengl::COpenGLScene& scene, const Box& box, cv::Size size) {
-  mrpt::opengl::CFBORender renderer(
-      mrpt::opengl::CFBORender::Parameters(unsigned(size.width), unsigned(size.height)));
-  auto& camera = renderer.getCamera(scene);
+cv::Mat renderGaussians(const std::vector<mrpt_ndtom::DrawnGaussian>& drawn, double quantiles,
+                        const std::vector<Eigen::Vector3d>& sensor_path, const Box& box,
+                        cv::Size size) {
   const Eigen::Vector3d centre = (box.lo + box.hi) / 2;
   const double radius = std::max(0.5 * (box.hi - box.lo).norm(), 0.5);
-  camera.setProjectiveModel(true);
-  camera.setProjectiveFOVdeg(float(kFieldOfViewDeg));
-  camera.setPointingAt(float(centre.x()), float(centre.y()), float(centre.z()));
-  camera.setAzimuthDegrees(float(kAzimuthDeg));
-  camera.setElevationDegrees(float(kElevationDeg));
-  camera.setZoomDistance(float(1.05 * radius / std::sin(kFieldOfViewDeg / 2 * M_PI / 180)));
-  mrpt::img::CImage image;
-  renderer.render_RGB(scene, image);
-  return image.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY).clone();
+  const double distance = 1.05 * radius / std::sin(kFieldOfViewDeg / 2 * M_PI / 180);
+  DepthCanvas canvas(
+      ViewCamera::orbiting(centre, distance, kAzimuthDeg, kElevationDeg, kFieldOfViewDeg, size),
+      kBackground);
+  const double k2 = quantiles * quantiles;
+  for (const auto& d : drawn)
+    canvas.drawEllipsoid(d.gaussian.mean, k2 * d.gaussian.covariance,
+                         cv::Vec3b(d.color.B, d.color.G, d.color.R));
+  canvas.drawPolyline(sensor_path, cv::Vec3b(0, 0, 0), 2 * kSupersampling);
+  return canvas.image();
 }
 
 }  // namespace
@@ -129,16 +115,12 @@ mrpt_ndtom::TRenderOptions renderOptionsFor(const ndtom::NdtMap& map, const Heig
 }
 
 cv::Mat renderObliqueView(const ndtom::NdtMap& map,
-                          const mrpt::opengl::CSetOfObjects::Ptr& gaussians,
+                          const std::vector<mrpt_ndtom::DrawnGaussian>& drawn,
                           const mrpt_ndtom::TRenderOptions& o,
                           const std::vector<Eigen::Vector3d>& sensor_path, int width) {
-  mrpt::opengl::COpenGLScene scene;
-  scene.getViewport()->setCustomBackgroundColor(mrpt::img::TColorf(1.0f, 1.0f, 1.0f));
-  scene.insert(gaussians);
-  scene.insert(pathLines(sensor_path));
-
   const cv::Size view(viewWidth(width), int(0.7 * viewWidth(width)));
-  const cv::Mat rendered = renderScene(scene, robustBox(map), view * kSupersampling);
+  const cv::Mat rendered =
+      renderGaussians(drawn, o.quantiles, sensor_path, robustBox(map), view * kSupersampling);
   const HeightScale scale{o.color_min_z, o.color_max_z};
   char title[160];
   std::snprintf(title, sizeof title, "NDT-OM, 3D view: %zu Gaussians, %g m cells",

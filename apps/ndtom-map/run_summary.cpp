@@ -97,6 +97,9 @@ void writeMapAndCosts(JsonWriter& j, const RunSummary& s) {
     j.beginObject("stages_s");
     for (const auto& stage : s.stages->stages()) j.field(stage.name, stage.seconds);
     j.endObject();
+    j.beginObject("stage_end_s");  // from the start; the scene is written beside the others
+    for (const auto& stage : s.stages->stages()) j.field(stage.name, stage.end_s);
+    j.endObject();
   }
   j.endObject();
   j.beginObject("memory");

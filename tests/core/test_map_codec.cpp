@@ -14,6 +14,7 @@
 #include "ndtom/crc32.h"
 #include "ndtom/map_io.h"
 #include "support/lidar_scans.h"
+#include "support/map_equality.h"
 
 using Eigen::Vector3d;
 using ndtom::CellIndex;
@@ -24,36 +25,8 @@ using ndtom::NdtMap;
 
 namespace {
 
-bool sameBits(const void* a, const void* b, size_t n) {
-  return std::memcmp(a, b, n) == 0;
-}
-
-// memcmp, not ==: -0.0 and 0.0 differ, and a NaN would equal itself.
-void expectBitIdentical(const NdtMap& a, const NdtMap& b) {
-  ASSERT_EQ(a.numCells(), b.numCells());
-  const MapOptions &oa = a.options(), &ob = b.options();
-  for (const auto& [x, y] : {std::pair{oa.resolution, ob.resolution},
-                             {oa.occupancy.p_hit, ob.occupancy.p_hit},
-                             {oa.occupancy.p_miss, ob.occupancy.p_miss},
-                             {oa.occupancy.logodds_min, ob.occupancy.logodds_min},
-                             {oa.occupancy.logodds_max, ob.occupancy.logodds_max},
-                             {oa.insertion.max_range, ob.insertion.max_range}})
-    EXPECT_TRUE(sameBits(&x, &y, 8));
-  EXPECT_EQ(oa.occupancy.enabled, ob.occupancy.enabled);
-  size_t differ = 0;
-  a.forEachCell([&](const CellView& ca) {
-    const auto cb = b.cell(ca.index);
-    if (!cb || !sameBits(&ca.logodds, &cb->logodds, 4) || !ca.stats != !cb->stats) {
-      ++differ;
-      return;
-    }
-    if (ca.stats && (ca.stats->n != cb->stats->n ||
-                     !sameBits(ca.stats->mean.data(), cb->stats->mean.data(), 3 * 8) ||
-                     !sameBits(ca.stats->scatter.data(), cb->stats->scatter.data(), 9 * 8)))
-      ++differ;
-  });
-  EXPECT_EQ(differ, 0u) << "cells that differ";
-}
+using ndtom::testing::expectBitIdentical;
+using ndtom::testing::sameBits;
 
 NdtMap roundTrip(const NdtMap& map) {
   const auto bytes = ndtom::encodeMap(map);

@@ -127,24 +127,38 @@ size_t trianglesPerEllipsoid(uint32_t subdivisions) {
   return size_t(8) << (2 * subdivisions);
 }
 
-void buildNdtVisualization(const ndtom::NdtMap& map, const TRenderOptions& o,
-                           mrpt::opengl::CSetOfObjects& out) {
+std::vector<DrawnGaussian> drawnGaussians(const ndtom::NdtMap& map, const TRenderOptions& o) {
   o.validate();
   const std::vector<ndtom::Gaussian> gaussians = selectGaussians(map, o);
-  if (!gaussians.empty()) {
+  const auto [z_lo, z_hi] = colorRange(gaussians, o);
+  std::vector<DrawnGaussian> drawn;
+  drawn.reserve(gaussians.size());
+  for (const auto& g : gaussians) {
+    float r, gr, b;
+    const double t = std::clamp((g.mean.z() - z_lo) / (z_hi - z_lo), 0.0, 1.0);
+    mrpt::img::colormap(o.colormap, float(t), r, gr, b);
+    drawn.push_back({g, mrpt::img::TColor(uint8_t(255 * r), uint8_t(255 * gr), uint8_t(255 * b))});
+  }
+  return drawn;
+}
+
+void buildNdtVisualization(const ndtom::NdtMap& map, const TRenderOptions& o,
+                           mrpt::opengl::CSetOfObjects& out) {
+  buildNdtVisualization(map, drawnGaussians(map, o), o, out);
+}
+
+void buildNdtVisualization(const ndtom::NdtMap& map, const std::vector<DrawnGaussian>& drawn,
+                           const TRenderOptions& o, mrpt::opengl::CSetOfObjects& out) {
+  o.validate();
+  if (!drawn.empty()) {
     const auto sphere = unitSphere(o.subdivisions);
-    const auto [z_lo, z_hi] = colorRange(gaussians, o);
     // Straight into the mesh, one ellipsoid at a time: no second copy of every triangle.
     auto mesh = mrpt::opengl::CSetOfTriangles::Create();
     mesh->setName("ndtom_gaussians");
-    mesh->reserve(gaussians.size() * sphere.size());
+    mesh->reserve(drawn.size() * sphere.size());
     std::vector<mrpt::opengl::TTriangle> tris;
-    for (const auto& g : gaussians) {
-      float r, gr, b;
-      const double t = std::clamp((g.mean.z() - z_lo) / (z_hi - z_lo), 0.0, 1.0);
-      mrpt::img::colormap(o.colormap, float(t), r, gr, b);
-      const mrpt::img::TColor color(uint8_t(255 * r), uint8_t(255 * gr), uint8_t(255 * b));
-      ellipsoidTriangles(g, sphere, o.quantiles, color, tris);
+    for (const auto& d : drawn) {
+      ellipsoidTriangles(d.gaussian, sphere, o.quantiles, d.color, tris);
       mesh->insertTriangles(tris.begin(), tris.end());
     }
     out.insert(mesh);

@@ -7,6 +7,7 @@
 #include <mrpt/opengl/CSetOfObjects.h>
 
 #include <cstdint>
+#include <vector>
 
 #include "mrpt_ndtom/render_options.h"
 #include "ndtom/ndt_map.h"
@@ -16,9 +17,23 @@ namespace mrpt_ndtom {
 /// Triangles drawn per ellipsoid at `subdivisions` (see TRenderOptions): 8·4^subdivisions.
 size_t trianglesPerEllipsoid(uint32_t subdivisions);
 
+/// An occupied Gaussian as drawn: regularised (so that its ellipsoid has volume) and coloured
+/// by the height of its mean.
+struct DrawnGaussian {
+  ndtom::Gaussian gaussian;
+  mrpt::img::TColor color;
+};
+
+/// The Gaussians that `options` draw: those of occupied cells above `min_logodds`, the
+/// best-supported `max_ellipsoids` of them, in cell order. Throws on invalid options.
+std::vector<DrawnGaussian> drawnGaussians(const ndtom::NdtMap& map, const TRenderOptions& options);
+
 /// Appends to `out` a CSetOfTriangles named "ndtom_gaussians" (if any Gaussian qualifies)
 /// and, if enabled, a CPointCloudColoured named "ndtom_free_cells".
 void buildNdtVisualization(const ndtom::NdtMap& map, const TRenderOptions& options,
                            mrpt::opengl::CSetOfObjects& out);
+/// The same for Gaussians already selected with drawnGaussians(map, options).
+void buildNdtVisualization(const ndtom::NdtMap& map, const std::vector<DrawnGaussian>& drawn,
+                           const TRenderOptions& options, mrpt::opengl::CSetOfObjects& out);
 
 }  // namespace mrpt_ndtom

@@ -1,0 +1,108 @@
+// ndtom-worldgen: a city and a lidar drive through it, written as a folder of scans with
+// poses, so that mapping, localization and distributed builds can be tested at the scale of
+// kilometres without downloading data. Exit 0 on success, 1 for a failed write, 2 for a bad
+// command line.
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include "city_route.h"
+#include "ndtom/atomic_file.h"
+#include "ndtom_apps/option_values.h"
+#include "ndtom_apps/progress.h"
+#include "ndtom_apps/run_program.h"
+#include "ndtom_io/pcd_reader.h"
+#include "simulated_lidar.h"
+#include "world_options.h"
+
+namespace {
+
+using namespace ndtom::world;
+
+std::string scanName(size_t i) {
+  char name[32];
+  std::snprintf(name, sizeof name, "scan%06zu.pcd", i);
+  return name;
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  ndtom::writeFileAtomically(path, text.data(), text.size());
+}
+
+int run(const WorldOptions& o) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
+  if (!fs::is_directory(o.out)) throw ndtom::apps::UsageError(o.out + ": cannot create the folder");
+  const auto start = std::chrono::steady_clock::now();
+  const CityWorld city(o.city);
+  const auto poses = driveThrough(city, o.route);
+
+  std::string kitti, times;
+  char line[256];
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const Eigen::Matrix<double, 3, 4> m = poses[i].matrix().topRows<3>();
+    std::snprintf(line, sizeof line, "%.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n",
+                  m(0, 0), m(0, 1), m(0, 2), m(0, 3), m(1, 0), m(1, 1), m(1, 2), m(1, 3), m(2, 0),
+                  m(2, 1), m(2, 2), m(2, 3));
+    kitti += line;
+    std::snprintf(line, sizeof line, "%.6f\n", double(i) * o.route.step / o.speed);
+    times += line;
+  }
+
+  // Scans in parallel, each thread taking the next index: files are the same for any count.
+  ndtom::apps::Progress progress(!o.quiet);
+  progress.start("", poses.size());
+  std::atomic<size_t> next{0}, done{0}, points{0};
+  std::exception_ptr failure;
+  std::mutex report;
+  const auto work = [&] {
+    for (size_t i; (i = next++) < poses.size();) {
+      try {
+        const auto scan = simulateScan(city, o.lidar, poses[i], i);
+        ndtom::io::writePcdBinary((fs::path(o.out) / scanName(i)).string(), scan);
+        points += scan.size();
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(report);
+        if (!failure) failure = std::current_exception();
+        next = poses.size();
+        return;
+      }
+      std::lock_guard<std::mutex> lock(report);
+      progress.update(++done, points);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < o.threads; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+  // Poses last: a folder with poses.txt is complete.
+  writeText((fs::path(o.out) / "times.txt").string(), times);
+  writeText((fs::path(o.out) / "poses.txt").string(), kitti);
+  if (!o.quiet)
+    std::printf("ndtom-worldgen: %zu scans over %.2f km in a city of %dx%d blocks (%zu boxes), "
+                "%.1f M points, %.1f s; wrote %s\n",
+                poses.size(), o.route.length / 1000, o.city.blocks_x, o.city.blocks_y,
+                city.boxes().size(), double(points) / 1e6,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                o.out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return ndtom::apps::runProgram("ndtom-worldgen", [&] {
+    const WorldOptions options = parseWorldOptions(argc, argv);
+    if (options.help) {
+      std::fputs(worldHelpText().c_str(), stdout);
+      return 0;
+    }
+    return run(options);
+  });
+}

@@ -1,0 +1,219 @@
+// The city generator against brute force: rays cast through the 2D grid of boxes hit what a
+// test of every box finds; the drive stays on the streets; scans lie on the surfaces; the
+// program writes the same files for any thread count.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+#include <sstream>
+
+#include "city_route.h"
+#include "ndtom_io/pcd_reader.h"
+#include "simulated_lidar.h"
+#include "world_options.h"
+
+namespace ndtom::world {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The first surface along the ray by testing the ground and every box.
+std::optional<double> bruteForceRay(const CityWorld& city, const Eigen::Vector3d& o,
+                                    const Eigen::Vector3d& d, double max_range) {
+  std::optional<double> best;
+  if (d.z() < 0 && o.z() >= 0 && -o.z() / d.z() <= max_range) best = -o.z() / d.z();
+  for (const Box& b : city.boxes())
+    if (const auto t = rayBoxEntry(o, d.cwiseInverse(), b, max_range))
+      if (!best || *t < *best) best = t;
+  return best;
+}
+
+// Distance from p to the nearest surface (ground or box face).
+double distanceToSurface(const CityWorld& city, const Eigen::Vector3d& p) {
+  double best = std::abs(p.z());
+  for (const Box& b : city.boxes()) {
+    const Eigen::Vector3d outside =
+        (b.lo - p).cwiseMax(Eigen::Vector3d::Zero()).cwiseMax(p - b.hi);
+    const double d = outside.norm() > 0
+                         ? outside.norm()
+                         : std::min((p - b.lo).minCoeff(), (b.hi - p).minCoeff());  // inside
+    best = std::min(best, d);
+  }
+  return best;
+}
+
+CityLayout smallCity(uint64_t seed = 1) {
+  CityLayout l;
+  l.blocks_x = 3;
+  l.blocks_y = 2;
+  l.seed = seed;
+  return l;
+}
+
+TEST(CityWorld, RaysHitWhatEveryBoxTestedFinds) {
+  const CityWorld city(smallCity());
+  ASSERT_GT(city.boxes().size(), 50u);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1), along(0, 1);
+  size_t hits = 0;
+  for (int i = 0; i < 3000; ++i) {
+    // From a street (between blocks) or anywhere over the city, in any direction.
+    const Eigen::Vector3d o(along(rng) * 3 * 80 + (i % 2 ? 0 : -40), (rng() % 3) * 80.0 + u(rng),
+                            1 + 5 * along(rng));
+    Eigen::Vector3d d(u(rng), u(rng), 0.6 * u(rng));
+    if (i % 50 == 0) d = Eigen::Vector3d(1, 0, 0);  // along a grid line: parallel slabs
+    d.normalize();
+    const auto grid = city.castRay(o, d, 120), brute = bruteForceRay(city, o, d, 120);
+    ASSERT_EQ(grid.has_value(), brute.has_value()) << i;
+    if (grid) {
+      EXPECT_NEAR(*grid, *brute, 1e-9) << i;
+      ++hits;
+    }
+  }
+  EXPECT_GT(hits, 1500u);
+}
+
+TEST(CityWorld, SameSeedSameCity) {
+  const CityWorld a(smallCity(4)), b(smallCity(4)), c(smallCity(5));
+  ASSERT_EQ(a.boxes().size(), b.boxes().size());
+  for (size_t i = 0; i < a.boxes().size(); ++i) {
+    EXPECT_EQ(a.boxes()[i].lo, b.boxes()[i].lo);
+    EXPECT_EQ(a.boxes()[i].hi, b.boxes()[i].hi);
+  }
+  EXPECT_FALSE(a.boxes().size() == c.boxes().size() && a.boxes()[0].hi == c.boxes()[0].hi);
+  CityLayout bad = smallCity();
+  bad.block_pitch = 25;
+  EXPECT_THROW(CityWorld{bad}, std::invalid_argument);
+}
+
+TEST(CityRoute, DrivesOnTheStreetsStepByStepThroughNewStreets) {
+  RouteSettings r;
+  r.length = 3000;
+  r.step = 2;
+  CityLayout l;
+  l.blocks_x = l.blocks_y = blocksForRoute(r.length, l.block_pitch);
+  const CityWorld city(l);
+  const auto poses = driveThrough(city, r);
+  ASSERT_EQ(poses.size(), size_t(r.length / r.step) + 1);
+  std::set<std::pair<long, long>> streets_seen;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const Eigen::Vector3d p = poses[i].translation();
+    EXPECT_FALSE(city.isInside(p)) << i;
+    EXPECT_NEAR(p.z(), r.sensor_height, 1e-12);
+    // On a street's centre line: x or y a multiple of the pitch.
+    const double fx = std::remainder(p.x(), l.block_pitch), fy = std::remainder(p.y(), l.block_pitch);
+    EXPECT_TRUE(std::abs(fx) < 1e-6 || std::abs(fy) < 1e-6) << i;
+    if (i > 0) {
+      EXPECT_LE((p - poses[i - 1].translation()).norm(), r.step + 1e-6) << i;
+      // Facing the way to the next pose (a corner between them shortens the way).
+      const Eigen::Vector3d travel = p - poses[i - 1].translation();
+      if (travel.norm() > r.step - 1e-6) {
+        EXPECT_GT((poses[i - 1].linear() * Eigen::Vector3d::UnitX()).dot(travel.normalized()),
+                  0.99)
+            << i;
+      }
+    }
+    streets_seen.insert({std::lround(p.x() / 40), std::lround(p.y() / 40)});
+  }
+  // Mostly new streets: half-segments visited against those driven.
+  EXPECT_GT(double(streets_seen.size()), 0.7 * r.length / 40);
+  EXPECT_THROW(driveThrough(city, RouteSettings{0, 1, 1.8, 1}), std::invalid_argument);
+}
+
+TEST(SimulatedLidar, PointsLieOnTheSurfacesAndRepeatPerScanIndex) {
+  const CityWorld city(smallCity());
+  RouteSettings r;
+  r.length = 100;
+  r.step = 25;
+  const auto poses = driveThrough(city, r);
+  LidarModel lidar;
+  lidar.rings = 8;
+  lidar.azimuth_steps = 120;
+  lidar.range_noise = 0;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const auto scan = simulateScan(city, lidar, poses[i], i);
+    ASSERT_GT(scan.size(), 300u);
+    for (size_t k = 0; k < scan.size(); k += 7) {
+      const Eigen::Vector3d w = poses[i] * scan[k];
+      EXPECT_LT(distanceToSurface(city, w), 1e-6) << i << "/" << k;
+      EXPECT_LE(scan[k].norm(), lidar.max_range + 1e-9);
+    }
+  }
+  lidar.range_noise = 0.05;
+  const auto a = simulateScan(city, lidar, poses[1], 1), b = simulateScan(city, lidar, poses[1], 1),
+             c = simulateScan(city, lidar, poses[1], 2);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  // Noise along the ray of about the σ asked for.
+  double sum2 = 0;
+  size_t n = 0;
+  for (const auto& p : a) {
+    const double range = p.norm();
+    const auto exact = city.castRay(poses[1].translation(), poses[1].linear() * (p / range), 200);
+    if (exact && range > 0) sum2 += (range - *exact) * (range - *exact), ++n;
+  }
+  ASSERT_GT(n, 300u);
+  EXPECT_NEAR(std::sqrt(sum2 / double(n)), 0.05, 0.01);
+}
+
+std::string readAll(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(WorldgenProgram, SameFilesForAnyThreadCountAndReadableScans) {
+  const fs::path dir = fs::temp_directory_path() / ("ndtom_worldgen_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string common = " --km 0.2 --step 10 --rings 8 --azimuth-steps 180 -q";
+  for (const char* threads : {"1", "2"}) {
+    const std::string cmd = std::string(NDTOM_WORLDGEN_EXE) + " " + (dir / threads).string() +
+                            common + " --threads " + threads;
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  }
+  size_t scans = 0;
+  for (const auto& e : fs::directory_iterator(dir / "1")) {
+    const auto name = e.path().filename();
+    EXPECT_EQ(readAll(e.path()), readAll(dir / "2" / name)) << name;
+    scans += e.path().extension() == ".pcd";
+  }
+  EXPECT_EQ(scans, 21u);
+  // poses.txt: one KITTI line per scan; the scans in the sensor frame land on the surfaces.
+  std::ifstream poses(dir / "1" / "poses.txt");
+  CityLayout l;
+  l.blocks_x = l.blocks_y = blocksForRoute(200, l.block_pitch);
+  const CityWorld city(l);
+  std::string line;
+  size_t lines = 0;
+  while (std::getline(poses, line)) {
+    std::istringstream in(line);
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) in >> m(r, c);
+    char name[32];
+    std::snprintf(name, sizeof name, "scan%06zu.pcd", lines);
+    const auto cloud = ndtom::io::readPcd((dir / "1" / name).string());
+    ASSERT_GT(cloud.points.size(), 100u);
+    const Eigen::Isometry3d pose(m);
+    double worst = 0;
+    for (size_t k = 0; k < cloud.points.size(); k += 11)
+      worst = std::max(worst, distanceToSurface(city, pose * cloud.points[k]));
+    EXPECT_LT(worst, 0.02 * 6 + 1e-3) << name;  // 6σ of the default noise, float storage
+    ++lines;
+  }
+  EXPECT_EQ(lines, scans);
+  // Bad options are usage errors (exit 2) naming the option.
+  const std::string bad = std::string(NDTOM_WORLDGEN_EXE) + " " + (dir / "bad").string() +
+                          " --step 0 2>/dev/null";
+  EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace ndtom::world
