@@ -10,8 +10,8 @@
 namespace ndtom::eval {
 
 /// The experiments, by the name used on the command line.
-inline const std::vector<std::string> kExperimentNames = {"consistency", "mapping", "multires",
-                                                          "sweep", "raymodes", "fig4"};
+inline const std::vector<std::string> kExperimentNames = {"consistency", "mapping",  "multires",
+                                                          "sweep",       "raymodes", "fig4"};
 
 struct EvalOptions {
   std::string tum_dir;    ///< TUM RGB-D sequence folder (associations.txt + depth/)

@@ -24,9 +24,7 @@ const cv::Scalar kGrey = cv::Scalar::all(190), kRed{30, 30, 220}, kPath{200, 90,
 struct Scene {
   Eigen::Vector3d centre;
   double ground_z, z_lo, z_hi;  ///< ground estimate; colour range of the heights
-  bool near(const Eigen::Vector3d& p) const {
-    return (p - centre).head<2>().norm() <= kRadius;
-  }
+  bool near(const Eigen::Vector3d& p) const { return (p - centre).head<2>().norm() <= kRadius; }
   double colourOf(const Eigen::Vector3d& p) const {
     return std::clamp((p.z() - z_lo) / (z_hi - z_lo), 0.0, 1.0);
   }
@@ -58,8 +56,9 @@ ObliqueRender view(const std::vector<Eigen::Vector3d>& extent) {
 }
 
 void drawByHeight(EvalContext& ctx, const NdtMap& map, const Scene& scene,
-                  const std::vector<Eigen::Vector3d>& extent, const std::vector<Eigen::Vector3d>& path,
-                  const std::string& file, const std::string& title) {
+                  const std::vector<Eigen::Vector3d>& extent,
+                  const std::vector<Eigen::Vector3d>& path, const std::string& file,
+                  const std::string& title) {
   const std::vector<Gaussian> gaussians = occupiedGaussians(map, scene);
   ObliqueRender r = view(extent);
   for (const Gaussian& g : gaussians) r.addGaussian(g, viridis(scene.colourOf(g.mean)));
@@ -88,8 +87,8 @@ void runFig4(EvalContext& ctx, const MappingMaps& maps) {
   const double res = maps.ndtom.geometry().resolution();
   char title[160];
 
-  std::snprintf(title, sizeof title, "Fig. 4a: NDT-OM, %.2f m, lidar (%.0f m around the path)",
-                res, kRadius);
+  std::snprintf(title, sizeof title, "Fig. 4a: NDT-OM, %.2f m, lidar (%.0f m around the path)", res,
+                kRadius);
   drawByHeight(ctx, maps.ndtom, scene, extent, maps.path, "fig4a_ndtom.png", title);
 
   // b) Recursive NDT, the conflicting cells (Gaussian here, empty in NDT-OM) in red.

@@ -140,7 +140,8 @@ std::vector<CellIndex> dynamicConflicts(const MappingMaps& maps) {
 MappingMaps runMapping(EvalContext& ctx, const std::vector<Cloud>& clouds, bool record) {
   const double resolution = ctx.options.mapping_resolution;
   MappingMaps maps{NdtMap(recursiveNdtOptions(ctx.options, resolution)),
-                   NdtMap(ndtOmOptions(ctx.options, resolution)), {}};
+                   NdtMap(ndtOmOptions(ctx.options, resolution)),
+                   {}};
   CsvTable table({"scan", "known_cells", "occupied_cells", "empty_cells", "mean_logodds_occupied",
                   "mean_logodds_empty", "ndtom_gaussians", "recursive_gaussians"});
   apps::Progress progress;

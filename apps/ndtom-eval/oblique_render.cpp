@@ -53,8 +53,12 @@ void ObliqueRender::addGaussian(const Gaussian& g, const cv::Scalar& colour) {
   const auto axis = [&](int i) {
     return std::max(0.5, std::sqrt(std::max(0.0, eig.eigenvalues()(i))) * pixels_per_metre_);
   };
-  items_.push_back({g.mean.dot(towards_camera_), project(g.mean), {axis(1), axis(0)}, angle,
-                    colour, colour * 0.6});
+  items_.push_back({g.mean.dot(towards_camera_),
+                    project(g.mean),
+                    {axis(1), axis(0)},
+                    angle,
+                    colour,
+                    colour * 0.6});
 }
 
 void ObliqueRender::addSphere(const Eigen::Vector3d& centre, double radius, const cv::Scalar& fill,
@@ -76,7 +80,7 @@ void ObliqueRender::write(const std::string& path, const std::string& title,
   std::vector<const Item*> order;
   for (const Item& item : items_) order.push_back(&item);
   std::stable_sort(order.begin(), order.end(),
-            [](const Item* a, const Item* b) { return a->depth < b->depth; });
+                   [](const Item* a, const Item* b) { return a->depth < b->depth; });
   // Sub-pixel positions: cv::ellipse takes fixed-point coordinates with `shift` fraction bits.
   constexpr int kShift = 4;
   constexpr double kScale = 1 << kShift;

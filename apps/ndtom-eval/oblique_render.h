@@ -38,10 +38,10 @@ class ObliqueRender {
 
  private:
   struct Item {
-    double depth;             ///< along the viewing direction; larger is nearer the camera
-    cv::Point2d centre;       ///< pixels
-    cv::Size2d axes;          ///< pixels (semi-axes)
-    double angle;             ///< degrees, image convention
+    double depth;        ///< along the viewing direction; larger is nearer the camera
+    cv::Point2d centre;  ///< pixels
+    cv::Size2d axes;     ///< pixels (semi-axes)
+    double angle;        ///< degrees, image convention
     cv::Scalar fill, outline;
   };
   cv::Point2d project(const Eigen::Vector3d& p) const;

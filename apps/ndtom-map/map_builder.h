@@ -39,8 +39,9 @@ struct BuildSettings {
   apps::MotionThresholds motion;  ///< the paper's insertion rule; off by default
 };
 
-/// Inserts every scan of `source` that passes the motion gate (already opened from `settings`), then reopens the input
-/// for each further pass. Throws InputError for unreadable data or a bad scan.
+/// Inserts every scan of `source` that passes the motion gate (already opened from `settings`),
+/// then reopens the input for each further pass. Throws InputError for unreadable data or a bad
+/// scan.
 MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings& settings,
                        const BuildSettings& build, apps::Progress& progress);
 

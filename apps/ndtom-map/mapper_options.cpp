@@ -62,7 +62,8 @@ const apps::OptionTable<MapperOptions>& optionTable() {
        {true,
         [](O& o, const std::string& v) {
           o.motion.min_turn_deg = positive("--min-turn", v);
-          if (o.motion.min_turn_deg > 180) throw UsageError("--min-turn = " + v + ": must be <= 180");
+          if (o.motion.min_turn_deg > 180)
+            throw UsageError("--min-turn = " + v + ": must be <= 180");
         }}},
       {"--config", {true, [](O& o, const std::string& v) { o.insertion.config_file = v; }}},
       {"--section", {true, [](O& o, const std::string& v) { o.insertion.section = v; }}},

@@ -5,9 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -38,11 +38,13 @@ fs::path out(const std::string& file) {
 void checkFilesAndMessages(const ProgramRun& run) {
   ASSERT_EQ(run.exit_code, 0) << run.stderr_text;
   for (const char* file :
-       {"fig1_tum.csv", "fig1_tum.png", "fig2_tum.csv", "fig1_lidar.csv", "fig2_lidar.png",
-        "fig3_occupancy.csv", "fig3_occupancy.png", "conflicts_top.png", "conflicts_by_height.csv",
-        "multires.csv", "multires_fine.png", "multires_coarse.png", "sweep.csv", "sweep_memory.png",
-        "raymodes.csv", "summary.csv", "fig4a_ndtom.png", "fig4b_recursive_conflicts.png",
-        "fig4c_free.png", "fig4d_coarse.png"})
+       {"fig1_tum.csv",       "fig1_tum.png",      "fig2_tum.csv",
+        "fig1_lidar.csv",     "fig2_lidar.png",    "fig3_occupancy.csv",
+        "fig3_occupancy.png", "conflicts_top.png", "conflicts_by_height.csv",
+        "multires.csv",       "multires_fine.png", "multires_coarse.png",
+        "sweep.csv",          "sweep_memory.png",  "raymodes.csv",
+        "summary.csv",        "fig4a_ndtom.png",   "fig4b_recursive_conflicts.png",
+        "fig4c_free.png",     "fig4d_coarse.png"})
     EXPECT_GT(fs::file_size(out(file)), 100u) << file;
   EXPECT_NE(run.stderr_text.find("3/3 scans"), std::string::npos);  // progress was shown
   EXPECT_NE(run.stdout_text.find("Summary"), std::string::npos);
@@ -198,7 +200,8 @@ TEST(EvalProgram, ClampAndInsertionRule) {
   ASSERT_EQ(runEval(common + "--out '" + (dir / "a").string() + "'", dir).exit_code, 0);
   ASSERT_EQ(runEval(common + "--clamp-max 10 --out '" + (dir / "b").string() + "'", dir).exit_code,
             0);
-  const Csv a = readCsv(dir / "a" / "fig3_occupancy.csv"), b = readCsv(dir / "b" / "fig3_occupancy.csv");
+  const Csv a = readCsv(dir / "a" / "fig3_occupancy.csv"),
+            b = readCsv(dir / "b" / "fig3_occupancy.csv");
   // A higher upper clamp lets hit cells climb further: the mean rises above the default bound.
   EXPECT_LE(a.number(2, "mean_logodds_occupied"), 3.5);
   EXPECT_GT(b.number(2, "mean_logodds_occupied"), 3.5);

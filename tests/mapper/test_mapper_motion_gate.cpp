@@ -45,8 +45,7 @@ size_t expectedKept(const std::vector<Pose>& poses, double travel, double turn) 
       const double dx = p.t[0] - last->t[0], dy = p.t[1] - last->t[1], dz = p.t[2] - last->t[2];
       double trace = 0;  // trace(Ra^T Rb) = sum of the element-wise products
       for (int i = 0; i < 9; ++i) trace += last->r[i] * p.r[i];
-      const double angle =
-          std::acos(std::max(-1.0, std::min(1.0, (trace - 1) / 2))) * 180 / M_PI;
+      const double angle = std::acos(std::max(-1.0, std::min(1.0, (trace - 1) / 2))) * 180 / M_PI;
       keep = (travel > 0 && std::sqrt(dx * dx + dy * dy + dz * dz) >= travel) ||
              (turn > 0 && angle >= turn);
     }
@@ -105,11 +104,10 @@ TEST(MapperMotionGate, FullLidarSequenceAtFiveCentimetres) {
 
 TEST(MapperMotionGate, BadThresholdsAreUsageErrors) {
   TempDir dir;
-  for (const char* bad : {"--min-travel -0.1", "--min-travel 0", "--min-travel x",
-                          "--min-turn 200", "--min-turn nan", "--min-turn"}) {
-    const ProgramRun run = runMapper(quoted(kLidar) + " -o " + quoted((dir / "m").string()) +
-                                         " --no-pictures " + bad,
-                                     dir);
+  for (const char* bad : {"--min-travel -0.1", "--min-travel 0", "--min-travel x", "--min-turn 200",
+                          "--min-turn nan", "--min-turn"}) {
+    const ProgramRun run = runMapper(
+        quoted(kLidar) + " -o " + quoted((dir / "m").string()) + " --no-pictures " + bad, dir);
     EXPECT_EQ(run.exit_code, 2) << bad << ": " << run.err;
     EXPECT_NE(run.err.find(std::string(bad).substr(0, 10)), std::string::npos) << run.err;
   }

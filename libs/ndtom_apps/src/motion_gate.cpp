@@ -13,10 +13,10 @@ double turnDegrees(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 }
 
 bool MotionGate::accept(const Eigen::Isometry3d& pose) {
-  const bool keep = !last_ || !t_.enabled() ||
-                    (t_.min_travel > 0 &&
-                     (pose.translation() - last_->translation()).norm() >= t_.min_travel) ||
-                    (t_.min_turn_deg > 0 && turnDegrees(*last_, pose) >= t_.min_turn_deg);
+  const bool keep =
+      !last_ || !t_.enabled() ||
+      (t_.min_travel > 0 && (pose.translation() - last_->translation()).norm() >= t_.min_travel) ||
+      (t_.min_turn_deg > 0 && turnDegrees(*last_, pose) >= t_.min_turn_deg);
   if (keep) last_ = pose;
   return keep;
 }
