@@ -7,7 +7,8 @@
 # Takes about 10 minutes on a shared 2-core machine (build not included).
 # Usage: scripts/evaluate.sh [--only-fig5] [--skip-fig5]
 # Data: ../shared/datasets beside the repository (scripts/fetch-data.sh writes it there), or
-# NDTOM_SHARED_DATASETS=DIR.
+# NDTOM_SHARED_DATASETS=DIR. Build folder: build-eval, or NDTOM_EVAL_BUILD=DIR (configured as
+# Release).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 only_fig5=0 skip_fig5=0
@@ -27,7 +28,7 @@ commit="$(git rev-parse --short HEAD)"
 if [[ -n "$(git status --porcelain -- . ':(exclude)doc/evaluation' ':(exclude)doc/evaluation.md')" ]]; then
   commit="$commit-dirty"
 fi
-build="${NDTOM_EVAL_BUILD:-build}"
+build="${NDTOM_EVAL_BUILD:-build-eval}"  # a Release build of its own unless told
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target ndtom-eval ndtom-bench
 eval_exe="$build/apps/ndtom-eval/ndtom-eval"
