@@ -1,5 +1,7 @@
 #include "bench_options.h"
 
+#include <limits>
+
 #include "ndtom_apps/command_line.h"
 
 namespace ndtom::bench {
@@ -41,8 +43,16 @@ void setOption(BenchOptions& o, const std::string& name, const std::string& valu
     const std::vector<int64_t> threads = apps::parseIntegerList(name, value, 1, 1000000);
     o.threads.assign(threads.begin(), threads.end());
   } else if (name == "--max-range") {
-    o.max_range = apps::parseReal(name, value);
+    o.max_range = value == "none" ? std::numeric_limits<double>::infinity()
+                                  : apps::parseReal(name, value, true);
     if (!(o.max_range > 0)) throw apps::UsageError("--max-range: must be > 0 m");
+  } else if (name == "--real-time") {
+    for (const std::string& item : apps::splitList(value)) {
+      const double ms = apps::parseReal(name, item);
+      if (!(ms > 0)) throw apps::UsageError("--real-time: " + item + " ms must be > 0");
+      o.real_time_ms.push_back(ms);
+    }
+    if (o.real_time_ms.empty()) throw apps::UsageError("--real-time: empty list");
   } else if (name == "--repeats") {
     o.repeats = parseCount(name, value, 1);
   } else if (name == "--csv") {
@@ -82,7 +92,8 @@ other in this process, and reports time per scan, rates, memory and cell counts 
 resolution, the ratios to OctoMap and COccupancyGridMap3D, and the project's targets.
 Only insertion is timed. Progress goes to stderr, the summary table to stdout.
 
-  --dataset DIR|synthetic  a folder with fullN.pcd scans (sensor frame) and poses.txt (KITTI),
+  --dataset DIR|synthetic  a folder with fullN.pcd scans (sensor frame) and poses.txt (KITTI)
+                           (scripts/fetch-data.sh downloads the BALM scans in this layout),
                            or 'synthetic' for the generated 64-ring, 115,200-point sequence;
                            repeat the option for several datasets
   --scans N                first N scans of each dataset (default: all; synthetic: 60)
@@ -90,7 +101,10 @@ Only insertion is timed. Progress goes to stderr, the summary table to stdout.
   --systems LIST           of ndtom-point, ndtom-hitcell, octomap, mrpt-grid3d (default: all)
   --threads LIST           NDT-OM insertion threads (default: 1,2 if the core supports
                            threads, else 1)
-  --max-range M            rays longer than M are truncated, for every system (default: 30)
+  --max-range M|none       rays longer than M are truncated, for every system (default: 30;
+                           none: no cut, as the paper)
+  --real-time MS,...       scan periods (ms): drawn in the plot, and the finest resolution
+                           from which each system's median stays within them is reported
   --repeats N              full runs per system and resolution; times are pooled (default: 1;
                            the side-by-side thread comparison runs at least 3, and at least
                            6 s of the multi-thread side)

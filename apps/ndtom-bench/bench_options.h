@@ -26,13 +26,14 @@ struct BenchOptions {
   std::vector<double> resolutions = {0.1, 0.2, 0.4, 0.8};  ///< m
   std::vector<SystemKind> systems = {SystemKind::NdtomPerPoint, SystemKind::NdtomPerHitCell,
                                      SystemKind::Octomap, SystemKind::MrptGrid3d};
-  std::vector<int> threads;  ///< NDT-OM thread counts; empty = {1, 2} when the core has
-                             ///< InsertOptions::threads, else {1}
-  double max_range = 30.0;   ///< m, the same for every system (Default: 30 m)
-  int repeats = 1;           ///< full runs per system and resolution (Default: 1)
-  std::string csv_path;      ///< per-run results as CSV; empty = none
-  std::string plot_prefix;   ///< PNG plot per dataset: <prefix>_<dataset>.png; empty = none
-  bool quiet = false;        ///< no progress on stderr
+  std::vector<int> threads;          ///< NDT-OM thread counts; empty = {1, 2} when the core has
+                                     ///< InsertOptions::threads, else {1}
+  double max_range = 30.0;           ///< m, the same for every system; inf: none (Default: 30 m)
+  std::vector<double> real_time_ms;  ///< scan periods drawn and reported (Default: none)
+  int repeats = 1;                   ///< full runs per system and resolution (Default: 1)
+  std::string csv_path;              ///< per-run results as CSV; empty = none
+  std::string plot_prefix;           ///< PNG plot per dataset: <prefix>_<dataset>.png; empty = none
+  bool quiet = false;                ///< no progress on stderr
   bool help = false;
 };
 

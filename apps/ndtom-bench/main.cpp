@@ -2,6 +2,7 @@
 // OctoMap and MRPT's COccupancyGridMap3D in one process, and reports times, rates, memory,
 // cell counts, ratios measured in this run, and the project's targets. See --help.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -16,6 +17,7 @@
 #include "ndtom_apps/run_program.h"
 #include "ndtom_system.h"
 #include "octomap_system.h"
+#include "real_time.h"
 #include "report.h"
 #include "synthetic_scans.h"
 #include "targets.h"
@@ -154,8 +156,9 @@ ScanSet loadDataset(const std::string& name, int max_scans) {
 void printReport(const BenchOptions& o, const std::vector<ScanSet>& sets,
                  const std::vector<RunResult>& runs) {
   std::cout << "## ndtom-bench results\n\nCPU: " << apps::cpuDescription()
-            << "\nBuild: " << apps::buildDescription() << "\nMax range: " << o.max_range
-            << " m, repeats: " << o.repeats << ", insertion only (timed per scan)\n";
+            << "\nBuild: " << apps::buildDescription() << "\nMax range: "
+            << (std::isinf(o.max_range) ? std::string("none") : std::to_string(o.max_range) + " m")
+            << ", repeats: " << o.repeats << ", insertion only (timed per scan)\n";
   for (const ScanSet& s : sets) {
     const Box box = rayBounds(s, o.max_range);
     const Eigen::Vector3d extent = box.max - box.min;
@@ -170,6 +173,12 @@ void printReport(const BenchOptions& o, const std::vector<ScanSet>& sets,
   for (const ScanSet& s : sets)
     for (const std::string& line : checkTargets(runs, s.name))
       std::cout << "  [" << s.name << "] " << line << "\n";
+  if (o.real_time_ms.empty()) return;
+  std::cout << "\nReal time (median time per scan within the scan period):\n";
+  for (const ScanSet& s : sets)
+    for (double period : o.real_time_ms)
+      for (const std::string& line : realTimeThresholds(runs, s.name, period))
+        std::cout << "  [" << s.name << "] " << line << "\n";
 }
 
 int run(const BenchOptions& o) {
@@ -202,7 +211,7 @@ int run(const BenchOptions& o) {
   if (!o.csv_path.empty()) writeCsv(o.csv_path, runs);
   if (!o.plot_prefix.empty())
     for (const ScanSet& s : sets)
-      writeTimePlot(o.plot_prefix + "_" + s.name + ".png", runs, s.name);
+      writeTimePlot(o.plot_prefix + "_" + s.name + ".png", runs, s.name, o.real_time_ms);
   return 0;
 }
 

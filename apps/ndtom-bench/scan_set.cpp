@@ -30,7 +30,9 @@ Box rayBounds(const ScanSet& set, double max_range) {
 
 ScanSet loadScanDirectory(const std::string& dir, int max_scans) {
   namespace fs = std::filesystem;
-  if (!fs::is_directory(dir)) throw std::runtime_error("dataset " + dir + ": not a directory");
+  if (!fs::is_directory(dir))
+    throw std::runtime_error("dataset " + dir +
+                             ": not a directory (scripts/fetch-data.sh downloads the lidar scans)");
   const std::vector<io::StampedPose> poses =
       io::readPoseFile((fs::path(dir) / "poses.txt").string(), io::PoseFormat::Kitti);
   size_t count = poses.size();

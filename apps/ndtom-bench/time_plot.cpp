@@ -73,7 +73,7 @@ void drawGrid(cv::Mat& img, const Axes& ax, const std::vector<double>& resolutio
 }  // namespace
 
 void writeTimePlot(const std::string& path, const std::vector<RunResult>& runs,
-                   const std::string& dataset) {
+                   const std::string& dataset, const std::vector<double>& real_time_ms) {
   std::map<std::string, std::vector<const RunResult*>> series;  // label -> runs by resolution
   std::vector<std::string> order;
   std::vector<double> resolutions;
@@ -87,6 +87,7 @@ void writeTimePlot(const std::string& path, const std::vector<RunResult>& runs,
     t_max = std::max(t_max, r.p95Seconds() * 1e3);
   }
   if (order.empty()) throw std::runtime_error("--plot: no timed run for " + dataset);
+  for (double ms : real_time_ms) t_min = std::min(t_min, ms), t_max = std::max(t_max, ms);
   std::sort(resolutions.begin(), resolutions.end());
   resolutions.erase(std::unique(resolutions.begin(), resolutions.end()), resolutions.end());
   const double pad = 0.08;
@@ -98,6 +99,14 @@ void writeTimePlot(const std::string& path, const std::vector<RunResult>& runs,
   cv::Mat img(kHeight, kWidth, CV_8UC3, cv::Scalar(255, 255, 255));
   drawGrid(img, ax, resolutions);
   text(img, "Insertion time per scan: " + dataset + " (median, bar to p95)", {kLeft, 30}, 0.65);
+  for (double ms : real_time_ms) {  // dashed: 12 px on, 8 off
+    const int y = ax.at(resolutions.front(), ms).y;
+    for (int x = kLeft; x < kWidth - kRight; x += 20)
+      cv::line(img, {x, y}, {std::min(x + 12, kWidth - kRight), y}, kBlack, 1);
+    char label[48];
+    std::snprintf(label, sizeof label, "scan period %g ms", ms);
+    text(img, label, {kLeft + 6, y - 6}, 0.45);
+  }
   for (size_t i = 0; i < order.size(); ++i) {
     auto& points = series[order[i]];
     std::sort(points.begin(), points.end(),

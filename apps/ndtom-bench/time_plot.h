@@ -9,9 +9,10 @@
 
 namespace ndtom::bench {
 
-/// Plots the runs of `dataset`; throws std::runtime_error naming the file if it cannot be
+/// Plots the runs of `dataset`, with a dashed horizontal line at each of `real_time_ms`
+/// (scan periods); throws std::runtime_error naming the file if it cannot be
 /// written.
 void writeTimePlot(const std::string& path, const std::vector<RunResult>& runs,
-                   const std::string& dataset);
+                   const std::string& dataset, const std::vector<double>& real_time_ms = {});
 
 }  // namespace ndtom::bench

@@ -22,6 +22,14 @@ Cloud transformed(std::string name, const std::vector<Eigen::Vector3d>& sensor_p
   return cloud;
 }
 
+// The programs read the layout scripts/fetch-data.sh writes: say so when a folder is missing.
+void requireFolder(const std::string& folder, const std::string& what) {
+  if (!std::filesystem::is_directory(folder))
+    throw std::runtime_error(what + " folder " + folder +
+                             " not found: run scripts/fetch-data.sh to download it (or pass its "
+                             "path, see --help)");
+}
+
 size_t howMany(size_t available, int wanted) {
   return wanted > 0 ? std::min(available, size_t(wanted)) : available;
 }
@@ -29,6 +37,7 @@ size_t howMany(size_t available, int wanted) {
 }  // namespace
 
 std::vector<Cloud> loadTumClouds(const std::string& folder, int max_frames, int decimation) {
+  requireFolder(folder, "TUM");
   const io::TumSequence sequence = io::readTumSequence(folder);
   if (sequence.frames.empty()) throw std::runtime_error("TUM sequence " + folder + ": no frames");
   const io::DepthCamera camera;  // TUM's default intrinsics for registered depth
@@ -42,14 +51,20 @@ std::vector<Cloud> loadTumClouds(const std::string& folder, int max_frames, int 
   return clouds;
 }
 
-std::vector<Cloud> loadLidarClouds(const std::string& folder, int max_scans) {
+std::vector<Cloud> loadLidarClouds(const std::string& folder, int max_scans,
+                                   const apps::MotionThresholds& motion, size_t* available) {
+  requireFolder(folder, "lidar");
   const std::string pose_path = folder + "/poses.txt";
   if (!std::filesystem::exists(pose_path))
     throw std::runtime_error("lidar folder " + folder + ": no poses.txt");
   const auto poses = io::readPoseFile(pose_path, io::PoseFormat::Kitti);
   if (poses.empty()) throw std::runtime_error(pose_path + ": no poses");
   std::vector<Cloud> clouds;
-  for (size_t i = 0; i < howMany(poses.size(), max_scans); ++i) {
+  apps::MotionGate gate(motion);
+  const size_t n = howMany(poses.size(), max_scans);
+  if (available) *available = n;
+  for (size_t i = 0; i < n; ++i) {
+    if (!gate.accept(poses[i].pose)) continue;
     const std::string path = folder + "/full" + std::to_string(i) + ".pcd";
     clouds.push_back(transformed(path, io::readPcd(path).points, poses[i].pose));
   }

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "ndtom_apps/motion_gate.h"
+
 namespace ndtom::eval {
 
 struct Cloud {
@@ -17,9 +19,13 @@ struct Cloud {
 /// depth pixel, TUM's default intrinsics, ground-truth camera poses. Throws on bad data.
 std::vector<Cloud> loadTumClouds(const std::string& folder, int max_frames, int decimation);
 
-/// Scans full0.pcd, full1.pcd, ... with poses.txt (KITTI, sensor -> world): the first
-/// `max_scans` (0 = as many as poses.txt has). Throws if a listed scan is missing.
-std::vector<Cloud> loadLidarClouds(const std::string& folder, int max_scans);
+/// Scans full0.pcd, full1.pcd, ... with poses.txt (KITTI, sensor -> world): of the first
+/// `max_scans` (0 = as many as poses.txt has), those `motion` keeps (the paper's insertion
+/// rule; by default all). `available`: how many were considered. Throws if a listed scan is
+/// missing, naming scripts/fetch-data.sh when the folder is.
+std::vector<Cloud> loadLidarClouds(const std::string& folder, int max_scans,
+                                   const apps::MotionThresholds& motion = {},
+                                   size_t* available = nullptr);
 
 size_t totalPoints(const std::vector<Cloud>& clouds);
 

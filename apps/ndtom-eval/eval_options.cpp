@@ -88,6 +88,10 @@ EvalOptions parseEvalOptions(int argc, char** argv) {
       {"--ray-mode-resolutions",
        [&](auto& a, auto& v) { o.ray_mode_resolutions = parseResolutions(a, v); }},
       {"--min-eigenvalue", [&](auto& a, auto& v) { o.min_eigenvalue = parsePositive(a, v); }},
+      {"--clamp-min", [&](auto& a, auto& v) { o.clamp_min = apps::parseReal(a, v); }},
+      {"--clamp-max", [&](auto& a, auto& v) { o.clamp_max = apps::parseReal(a, v); }},
+      {"--min-travel", [&](auto& a, auto& v) { o.motion.min_travel = parsePositive(a, v); }},
+      {"--min-turn", [&](auto& a, auto& v) { o.motion.min_turn_deg = parsePositive(a, v); }},
       {"--experiments",
        [&](auto& a, auto& v) { o.experiments = parseChoice(a, v, kExperimentNames); }},
       {"--consistency-data",
@@ -106,6 +110,9 @@ EvalOptions parseEvalOptions(int argc, char** argv) {
     if (i + 1 >= argc) throw apps::UsageError(arg + ": missing value");
     setter->second(arg, argv[++i]);
   }
+  if (!(o.clamp_min < 0 && o.clamp_max > 0))
+    throw apps::UsageError("--clamp-min/--clamp-max: need clamp-min < 0 < clamp-max");
+  if (o.motion.min_turn_deg > 180) throw apps::UsageError("--min-turn: must be <= 180 degrees");
   return o;
 }
 
@@ -123,6 +130,10 @@ Data (defaults: ../shared/datasets beside the repository; installed: share/ndtom
   --lidar-scans N            lidar scans for mapping, multires, sweep, raymodes (default: all)
   --consistency-scans N      lidar scans for Fig. 1 and 2 (default: 30)
   --consistency-data LIST    datasets for Fig. 1 and 2: tum,lidar (default: both)
+  --min-travel M             the paper's insertion rule on the lidar scans: keep a scan only
+  --min-turn DEG             if the sensor moved >= M m or turned >= DEG degrees since the
+                             last kept one (paper: 0.05 m; default: every scan)
+  Data missing? scripts/fetch-data.sh downloads and converts both datasets.
 
 Resolutions (m):
   --tum-resolution R         Fig. 1/2 on the TUM frames (default: 0.1)
@@ -135,6 +146,9 @@ Resolutions (m):
 Similarity:
   --min-eigenvalue V         covariance eigenvalue floor in m^2 (default: 1e-6)
 
+NDT-OM occupancy:
+  --clamp-min L, --clamp-max L   log-odds clamp (default: the library's -2, 3.5)
+
 Experiments (default: all):
   --experiments LIST         comma-separated subset of:
       consistency  Fig. 1 (each map vs the batch map) and Fig. 2 (self-test), TUM + lidar
@@ -142,6 +156,8 @@ Experiments (default: all):
       multires     0.3 m map and the 0.9 m map derived from it, vs a batch 0.9 m map
       sweep        similarity to the batch map and memory for several resolutions
       raymodes     RayMode::PerHitCell vs the reference RayMode::PerPoint
+      fig4         Fig. 4a-d as 3D pictures: NDT-OM, Recursive NDT with the conflicts,
+                   free cells, the derived coarse map (lidar, mapping resolution)
   -h, --help                 this text
 
 Exit status: 0 on success, 1 on any error (one-line message on stderr), 2 on bad usage.

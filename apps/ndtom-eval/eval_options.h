@@ -5,11 +5,13 @@
 #include <string>
 #include <vector>
 
+#include "ndtom_apps/motion_gate.h"
+
 namespace ndtom::eval {
 
 /// The experiments, by the name used on the command line.
-inline const std::vector<std::string> kExperimentNames = {"consistency", "mapping", "multires",
-                                                          "sweep", "raymodes"};
+inline const std::vector<std::string> kExperimentNames = {"consistency", "mapping",  "multires",
+                                                          "sweep",       "raymodes", "fig4"};
 
 struct EvalOptions {
   std::string tum_dir;    ///< TUM RGB-D sequence folder (associations.txt + depth/)
@@ -26,6 +28,9 @@ struct EvalOptions {
   std::vector<double> sweep_resolutions = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0};
   std::vector<double> ray_mode_resolutions = {0.2, 0.4};
   double min_eigenvalue = 1e-6;       ///< covariance floor of the similarity (Default: 1e-6 m²)
+  double clamp_min = -2.0;            ///< NDT-OM log-odds clamp (Default: the library's -2)
+  double clamp_max = 3.5;             ///< (Default: the library's 3.5)
+  apps::MotionThresholds motion;      ///< the paper's insertion rule on the lidar scans (off)
   std::set<std::string> experiments;  ///< empty = all
   std::set<std::string> consistency_data = {"tum", "lidar"};  ///< datasets of Fig. 1 and 2
   bool help = false;

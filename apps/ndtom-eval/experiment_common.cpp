@@ -18,14 +18,16 @@ void Summary::write(const std::string& path) const {
   table.write(path);
 }
 
-MapOptions recursiveNdtOptions(double resolution) {
-  MapOptions o = ndtOmOptions(resolution);
+MapOptions recursiveNdtOptions(const EvalOptions& options, double resolution) {
+  MapOptions o = ndtOmOptions(options, resolution);
   o.occupancy.enabled = false;
   return o;
 }
 
-MapOptions ndtOmOptions(double resolution, RayMode ray_mode) {
+MapOptions ndtOmOptions(const EvalOptions& options, double resolution, RayMode ray_mode) {
   MapOptions o;
+  o.occupancy.logodds_min = options.clamp_min;
+  o.occupancy.logodds_max = options.clamp_max;
   o.resolution = resolution;
   o.insertion.ray_mode = ray_mode;
   o.insertion.max_range = std::numeric_limits<double>::infinity();  // as the paper: no limit

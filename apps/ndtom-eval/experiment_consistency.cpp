@@ -13,8 +13,10 @@ namespace {
 struct ConsistencyMaps {
   NdtMap recursive, ndtom;
   ErrorRefinementMap er;
-  explicit ConsistencyMaps(double resolution)
-      : recursive(recursiveNdtOptions(resolution)), ndtom(ndtOmOptions(resolution)), er([&] {
+  ConsistencyMaps(const EvalOptions& options, double resolution)
+      : recursive(recursiveNdtOptions(options, resolution)),
+        ndtom(ndtOmOptions(options, resolution)),
+        er([&] {
           ErrorRefinementOptions o;
           o.resolution = resolution;
           return o;
@@ -108,7 +110,7 @@ void selfTest(EvalContext& ctx, const std::string& dataset, const std::vector<Cl
 
 void runConsistency(EvalContext& ctx, const std::string& dataset, const std::vector<Cloud>& clouds,
                     double resolution) {
-  ConsistencyMaps maps(resolution);
+  ConsistencyMaps maps(ctx.options, resolution);
   batchConsistency(ctx, dataset, clouds, maps);
   selfTest(ctx, dataset, clouds, maps);
 }

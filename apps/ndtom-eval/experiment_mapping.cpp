@@ -48,18 +48,6 @@ void plotFig3(EvalContext& ctx, const CsvTable& table) {
                  {"empty (l < 0)", x, table.column("mean_logodds_empty"), colors::kEr}});
 }
 
-// Cells with a Gaussian in Recursive NDT whose NDT-OM log-odds is ≤ 0 (observed empty: NDT-OM
-// dropped or never kept a Gaussian there).
-std::vector<CellIndex> dynamicConflicts(const MappingMaps& maps) {
-  std::vector<CellIndex> conflicts;
-  maps.recursive.forEachCell([&](const CellView& c) {
-    if (!c.stats || !c.stats->hasGaussian()) return;
-    const auto other = maps.ndtom.cell(c.index);
-    if (other && cellState(maps.ndtom, *other) != CellState::Occupied) conflicts.push_back(c.index);
-  });
-  return conflicts;
-}
-
 double medianPoints(const NdtMap& map, const std::vector<CellIndex>& cells) {
   std::vector<uint32_t> n;
   for (const CellIndex& c : cells) n.push_back(map.cell(c)->stats->n);
@@ -88,20 +76,29 @@ void writeConflictsByHeight(EvalContext& ctx, const MappingMaps& maps,
 
 void drawConflicts(EvalContext& ctx, const MappingMaps& maps,
                    const std::vector<CellIndex>& conflicts) {
-  std::vector<Gaussian> gaussians;
+  std::vector<Gaussian> gaussians, conflicting;
   std::vector<Eigen::Vector3d> extent = maps.path;
   maps.recursive.forEachGaussian([&](const Gaussian& g) {
     gaussians.push_back(g);
     extent.push_back(g.mean);
   });
   if (gaussians.empty()) return;
+  for (const CellIndex& c : conflicts) conflicting.push_back(*maps.recursive.gaussian(c));
+  // Heights relative to the first sensor position, in the bands of conflicts_by_height.csv.
+  const double sensor_z = maps.path.front().z(), z_lo = sensor_z - 3, z_hi = sensor_z + 9;
   TopView view(extent);
-  view.drawGaussians(gaussians, cv::Scalar::all(175));
-  view.drawCells(conflicts, maps.recursive.geometry().resolution(), {0, 0, 230});
+  view.drawGaussians(gaussians, cv::Scalar::all(205));
+  // The conflicting Gaussians themselves (not their cells' squares), coloured by height.
+  view.drawGaussiansByHeight(conflicting, z_lo, z_hi);
   view.drawPath(maps.path, {200, 90, 30});
-  view.drawLegend({{"Gaussian in Recursive NDT (1-sigma, top view)", cv::Scalar::all(175)},
-                   {"conflict: Gaussian in Recursive NDT, empty in NDT-OM", {0, 0, 230}},
+  char conflict_line[120];
+  std::snprintf(conflict_line, sizeof conflict_line,
+                "%zu conflicts: Gaussian in Recursive NDT, empty in NDT-OM (colour: height)",
+                conflicting.size());
+  view.drawLegend({{"Gaussian in Recursive NDT (1-sigma, top view)", cv::Scalar::all(205)},
+                   {conflict_line, viridis(0.5)},
                    {"sensor path", {200, 90, 30}}});
+  view.drawHeightBar(z_lo, z_hi);
   view.write(ctx.output("conflicts_top.png"));
 }
 
@@ -130,9 +127,22 @@ void reportConflicts(EvalContext& ctx, const MappingMaps& maps) {
 
 }  // namespace
 
+// Observed empty in NDT-OM: it dropped or never kept a Gaussian there.
+std::vector<CellIndex> dynamicConflicts(const MappingMaps& maps) {
+  std::vector<CellIndex> conflicts;
+  maps.recursive.forEachCell([&](const CellView& c) {
+    if (!c.stats || !c.stats->hasGaussian()) return;
+    const auto other = maps.ndtom.cell(c.index);
+    if (other && cellState(maps.ndtom, *other) != CellState::Occupied) conflicts.push_back(c.index);
+  });
+  return conflicts;
+}
+
 MappingMaps runMapping(EvalContext& ctx, const std::vector<Cloud>& clouds, bool record) {
   const double resolution = ctx.options.mapping_resolution;
-  MappingMaps maps{NdtMap(recursiveNdtOptions(resolution)), NdtMap(ndtOmOptions(resolution)), {}};
+  MappingMaps maps{NdtMap(recursiveNdtOptions(ctx.options, resolution)),
+                   NdtMap(ndtOmOptions(ctx.options, resolution)),
+                   {}};
   CsvTable table({"scan", "known_cells", "occupied_cells", "empty_cells", "mean_logodds_occupied",
                   "mean_logodds_empty", "ndtom_gaussians", "recursive_gaussians"});
   apps::Progress progress;

@@ -16,8 +16,9 @@ struct ModeRun {
   size_t voxel_visits = 0;
 };
 
-ModeRun build(double resolution, RayMode mode, const std::vector<Cloud>& clouds) {
-  ModeRun run{NdtMap(ndtOmOptions(resolution, mode))};
+ModeRun build(const EvalOptions& options, double resolution, RayMode mode,
+              const std::vector<Cloud>& clouds) {
+  ModeRun run{NdtMap(ndtOmOptions(options, resolution, mode))};
   for (const Cloud& c : clouds) {
     InsertionReport report;
     run.seconds += timed([&] { report = run.map.insertScan(c.points, c.origin); });
@@ -52,8 +53,8 @@ void runRayModes(EvalContext& ctx, const std::vector<Cloud>& clouds) {
   apps::Progress progress;
   progress.start("raymodes", ctx.options.ray_mode_resolutions.size(), "resolutions");
   for (double resolution : ctx.options.ray_mode_resolutions) {
-    const ModeRun per_point = build(resolution, RayMode::PerPoint, clouds);
-    const ModeRun hit_cell = build(resolution, RayMode::PerHitCell, clouds);
+    const ModeRun per_point = build(ctx.options, resolution, RayMode::PerPoint, clouds);
+    const ModeRun hit_cell = build(ctx.options, resolution, RayMode::PerHitCell, clouds);
     const GaussianSet ref = gaussianSetOf(per_point.map, ctx.floor);
     const GaussianSet test = gaussianSetOf(hit_cell.map, ctx.floor);
     const double scans = double(clouds.size());

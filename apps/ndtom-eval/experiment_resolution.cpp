@@ -61,8 +61,8 @@ void runResolutionSweep(EvalContext& ctx, const std::vector<Cloud>& clouds) {
   apps::Progress progress;
   progress.start("sweep", ctx.options.sweep_resolutions.size(), "resolutions");
   for (double resolution : ctx.options.sweep_resolutions) {
-    const BuiltMap recursive = build(recursiveNdtOptions(resolution), clouds);
-    const BuiltMap ndtom = build(ndtOmOptions(resolution), clouds);
+    const BuiltMap recursive = build(recursiveNdtOptions(ctx.options, resolution), clouds);
+    const BuiltMap ndtom = build(ndtOmOptions(ctx.options, resolution), clouds);
     const GridGeometry& geometry = recursive.map.geometry();
     const GaussianSet batch = gaussianSetOf(batchNdt(points, geometry), geometry, ctx.floor);
     const double scans = double(clouds.size());

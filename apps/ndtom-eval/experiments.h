@@ -43,9 +43,11 @@ struct EvalContext {
 };
 
 /// Recursive NDT: RCU only, no rays, no occupancy (the paper's "Recursive NDT").
-MapOptions recursiveNdtOptions(double resolution);
-/// NDT-OM with the library's default occupancy parameters (p_o 0.6, p_e 0.49, clamp [-2, 3.5]).
-MapOptions ndtOmOptions(double resolution, RayMode ray_mode = RayMode::PerPoint);
+MapOptions recursiveNdtOptions(const EvalOptions& o, double resolution);
+/// NDT-OM with the library's default p_o 0.6, p_e 0.49 and the clamp of the options
+/// (default [-2, 3.5]).
+MapOptions ndtOmOptions(const EvalOptions& o, double resolution,
+                        RayMode ray_mode = RayMode::PerPoint);
 
 /// Fig. 1 (each map vs the batch map after every cloud) and Fig. 2 (every cloud vs each
 /// final map) for ER, Recursive NDT and NDT-OM. `dataset` names the output files.
@@ -60,6 +62,12 @@ struct MappingMaps {
 /// Builds the maps; with `record` also Fig. 3 (mean log-odds after every scan) and the
 /// dynamic conflicts (Sec. IV-B-2).
 MappingMaps runMapping(EvalContext& ctx, const std::vector<Cloud>& clouds, bool record);
+
+/// Cells with a Gaussian in Recursive NDT that NDT-OM holds empty (log-odds <= 0).
+std::vector<CellIndex> dynamicConflicts(const MappingMaps& maps);
+
+/// Fig. 4 a-d as 3D pictures (fig4*.png).
+void runFig4(EvalContext& ctx, const MappingMaps& maps);
 
 /// Sec. IV-B-2: Gaussian counts of the fine map and of the map derived by RCU, and the check
 /// of the derived map against a batch map at the coarse resolution.

@@ -21,19 +21,26 @@ void runAll(EvalContext& ctx) {
     runConsistency(ctx, "tum", tum, o.tum_resolution);
   }
   const bool needs_lidar = o.runsConsistencyOn("lidar") || o.runs("mapping") ||
-                           o.runs("multires") || o.runs("sweep") || o.runs("raymodes");
+                           o.runs("multires") || o.runs("sweep") || o.runs("raymodes") ||
+                           o.runs("fig4");
   if (!needs_lidar) return;
-  const auto lidar = loadLidarClouds(o.lidar_dir, o.lidar_scans);
-  std::fprintf(stderr, "lidar: %zu scans, %zu points\n", lidar.size(), totalPoints(lidar));
+  size_t lidar_available = 0;
+  const auto lidar = loadLidarClouds(o.lidar_dir, o.lidar_scans, o.motion, &lidar_available);
+  std::fprintf(stderr, "lidar: %zu of %zu scans (insertion rule %s), %zu points\n", lidar.size(),
+               lidar_available, o.motion.enabled() ? "on" : "off", totalPoints(lidar));
+  ctx.summary.add("lidar_scans_read", lidar_available);
+  ctx.summary.add("lidar_min_travel_m", o.motion.min_travel);
+  ctx.summary.add("lidar_min_turn_deg", o.motion.min_turn_deg);
   ctx.summary.add("lidar_scans", lidar.size());
   ctx.summary.add("lidar_points", totalPoints(lidar));
   if (o.runsConsistencyOn("lidar")) {
     const size_t n = std::min(lidar.size(), size_t(o.consistency_scans));
     runConsistency(ctx, "lidar", {lidar.begin(), lidar.begin() + long(n)}, o.lidar_resolution);
   }
-  if (o.runs("mapping") || o.runs("multires")) {
+  if (o.runs("mapping") || o.runs("multires") || o.runs("fig4")) {
     const MappingMaps maps = runMapping(ctx, lidar, o.runs("mapping"));
     if (o.runs("multires")) runMultiResolution(ctx, lidar, maps);
+    if (o.runs("fig4")) runFig4(ctx, maps);
   }
   if (o.runs("sweep")) runResolutionSweep(ctx, lidar);
   if (o.runs("raymodes")) runRayModes(ctx, lidar);
@@ -42,6 +49,8 @@ void runAll(EvalContext& ctx) {
 int run(const EvalOptions& options) {
   std::filesystem::create_directories(options.out_dir);
   Summary summary;
+  summary.add("clamp_min", options.clamp_min);
+  summary.add("clamp_max", options.clamp_max);
   EvalContext ctx{options, summary, ndtom::CovarianceFloor{options.min_eigenvalue}, {}};
   runAll(ctx);
   summary.write(ctx.output("summary.csv"));

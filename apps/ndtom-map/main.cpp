@@ -86,7 +86,7 @@ int run(const MapperOptions& o) {
   ndtom::apps::Progress progress(!o.quiet);
   MappingResult mapping =
       buildMap(std::move(source), settings,
-               {insertion.toMapOptions(), insertion.insertion.threads, o.passes}, progress);
+               {insertion.toMapOptions(), insertion.insertion.threads, o.passes, o.motion}, progress);
   requireSomePoints(mapping, o.input);
   const size_t peak_rss_after_mapping = ndtom::apps::peakRssBytes();
   StageTimes times(start);

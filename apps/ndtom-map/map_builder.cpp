@@ -65,11 +65,20 @@ class ScanReader {
 };
 
 // One pass: every scan of `source` into `result.map`.
-void insertAll(ScanSource& source, const ndtom::InsertOptions& insert, bool first_pass,
-               const std::string& input, MappingResult& result, apps::Progress& progress) {
+void insertAll(ScanSource& source, const ndtom::InsertOptions& insert,
+               const apps::MotionThresholds& motion, bool first_pass, const std::string& input,
+               MappingResult& result, apps::Progress& progress) {
   size_t done = 0, points = 0;
+  apps::MotionGate gate(motion);
   ScanReader reader(source, insert.threads > 1);
   while (auto scan = reader.next()) {
+    // The sensor's position with the frame's orientation: both move rigidly together.
+    Eigen::Isometry3d sensor_pose = scan->frame_pose;
+    sensor_pose.translation() = scan->sensor_origin;
+    if (!gate.accept(sensor_pose)) {
+      progress.update(++done, points);
+      continue;
+    }
     const auto start = Clock::now();
     try {
       result.points += result.map.insertScan(scan->points_world, scan->sensor_origin, insert);
@@ -98,7 +107,7 @@ MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings&
     progress.start(
         build.passes > 1 ? "pass " + std::to_string(pass) + "/" + std::to_string(build.passes) : "",
         source->size());
-    insertAll(*source, insert, pass == 1, settings.input, result, progress);
+    insertAll(*source, insert, build.motion, pass == 1, settings.input, result, progress);
     progress.finish();
     if (pass == 1) result.skips = source->skips();
     PassResult r = describeMap(result.map);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ndtom/ndt_map.h"
+#include "ndtom_apps/motion_gate.h"
 #include "ndtom_apps/progress.h"
 #include "scan_source.h"
 
@@ -35,10 +36,12 @@ struct BuildSettings {
   ndtom::MapOptions map;
   int threads = 1;
   int passes = 1;
+  apps::MotionThresholds motion;  ///< the paper's insertion rule; off by default
 };
 
-/// Inserts every scan of `source` (already opened from `settings`), then reopens the input
-/// for each further pass. Throws InputError for unreadable data or a bad scan.
+/// Inserts every scan of `source` that passes the motion gate (already opened from `settings`),
+/// then reopens the input for each further pass. Throws InputError for unreadable data or a bad
+/// scan.
 MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings& settings,
                        const BuildSettings& build, apps::Progress& progress);
 

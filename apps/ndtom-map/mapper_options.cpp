@@ -55,6 +55,16 @@ const apps::OptionTable<MapperOptions>& optionTable() {
         [](O& o, const std::string& v) {
           o.max_scans = size_t(parseInteger("--max-scans", v, 1, int64_t(1) << 40));
         }}},
+      {"--min-travel",
+       {true,
+        [](O& o, const std::string& v) { o.motion.min_travel = positive("--min-travel", v); }}},
+      {"--min-turn",
+       {true,
+        [](O& o, const std::string& v) {
+          o.motion.min_turn_deg = positive("--min-turn", v);
+          if (o.motion.min_turn_deg > 180)
+            throw UsageError("--min-turn = " + v + ": must be <= 180");
+        }}},
       {"--config", {true, [](O& o, const std::string& v) { o.insertion.config_file = v; }}},
       {"--section", {true, [](O& o, const std::string& v) { o.insertion.section = v; }}},
       {"--coarse",
@@ -150,6 +160,9 @@ std::string helpText() {
        "  --pose-format F           auto|kitti|tum (auto: 12 numbers a line is KITTI)\n"
        "  --pose-time-tolerance S   largest time stamp gap for a TUM match [s] (0.02)\n"
        "  --max-scans N             only the first N scans\n"
+       "  --min-travel M            insert a scan only if the sensor moved >= M metres or (with\n"
+       "                            --min-turn) turned >= DEG degrees since the last inserted\n"
+       "  --min-turn DEG            scan (the paper inserts a scan every 0.05 m; default: all)\n"
        "  --fx, --fy, --cx, --cy, --depth-scale   TUM RGB-D depth camera (525, 525, 319.5,\n"
        "                            239.5, 5000 units per metre)\n"
        "\n"

@@ -7,6 +7,7 @@
 
 #include "input_format.h"
 #include "insertion_settings.h"
+#include "ndtom_apps/motion_gate.h"
 #include "ndtom_io/pose_file.h"
 #include "ndtom_io/tum_rgbd.h"
 
@@ -22,6 +23,7 @@ struct MapperOptions {
   double pose_time_tolerance = 0.02;  ///< TUM trajectory vs rawlog time stamps (Default: 0.02 s)
   ndtom::io::DepthCamera camera;      ///< TUM RGB-D intrinsics and depth scale
   size_t max_scans = 0;               ///< first N scans; 0 = all
+  apps::MotionThresholds motion;      ///< --min-travel, --min-turn (Default: off)
 
   InsertionSettings insertion;  ///< --config, --section and the .ini keys as options
   int coarse = 0;               ///< also write a map this many times coarser; 0 = none

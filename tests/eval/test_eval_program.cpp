@@ -4,7 +4,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -35,10 +38,13 @@ fs::path out(const std::string& file) {
 void checkFilesAndMessages(const ProgramRun& run) {
   ASSERT_EQ(run.exit_code, 0) << run.stderr_text;
   for (const char* file :
-       {"fig1_tum.csv", "fig1_tum.png", "fig2_tum.csv", "fig1_lidar.csv", "fig2_lidar.png",
-        "fig3_occupancy.csv", "fig3_occupancy.png", "conflicts_top.png", "conflicts_by_height.csv",
-        "multires.csv", "multires_fine.png", "multires_coarse.png", "sweep.csv", "sweep_memory.png",
-        "raymodes.csv", "summary.csv"})
+       {"fig1_tum.csv",       "fig1_tum.png",      "fig2_tum.csv",
+        "fig1_lidar.csv",     "fig2_lidar.png",    "fig3_occupancy.csv",
+        "fig3_occupancy.png", "conflicts_top.png", "conflicts_by_height.csv",
+        "multires.csv",       "multires_fine.png", "multires_coarse.png",
+        "sweep.csv",          "sweep_memory.png",  "raymodes.csv",
+        "summary.csv",        "fig4a_ndtom.png",   "fig4b_recursive_conflicts.png",
+        "fig4c_free.png",     "fig4d_coarse.png"})
     EXPECT_GT(fs::file_size(out(file)), 100u) << file;
   EXPECT_NE(run.stderr_text.find("3/3 scans"), std::string::npos);  // progress was shown
   EXPECT_NE(run.stdout_text.find("Summary"), std::string::npos);
@@ -147,8 +153,70 @@ TEST(EvalProgram, HelpBadOptionAndMissingData) {
                                    "' --out '" + (dir / "out").string() + "'",
                                dir);
   EXPECT_EQ(missing.exit_code, 1);
-  EXPECT_NE(missing.stderr_text.find("no poses.txt"), std::string::npos);
+  EXPECT_NE(missing.stderr_text.find("scripts/fetch-data.sh"), std::string::npos);
   EXPECT_EQ(std::count(missing.stderr_text.begin(), missing.stderr_text.end(), '\n'), 1);
+
+  for (const char* bad_value : {"--clamp-max -1", "--clamp-min 0.5", "--min-travel 0",
+                                "--min-turn 181", "--min-travel abc"}) {
+    const ProgramRun r = runEval(bad_value, dir);
+    EXPECT_EQ(r.exit_code, 2) << bad_value << ": " << r.stderr_text;
+  }
+  fs::remove_all(dir);
+}
+
+// The summary's value of `key`, or NaN.
+double summaryValue(const fs::path& summary, const std::string& key) {
+  const Csv csv = readCsv(summary);
+  for (size_t i = 0; i < csv.rows.size(); ++i)
+    if (csv.rows[i].at("key") == key) return csv.number(i, "value");
+  return std::nan("");
+}
+
+// Scans at least `travel` m from the last kept one (the first is kept), from the KITTI lines.
+size_t keptByTravel(const std::string& poses_path, double travel) {
+  std::ifstream in(poses_path);
+  std::string line;
+  size_t kept = 0;
+  double last[3] = {0, 0, 0};
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    double m[12];
+    for (double& v : m) s >> v;
+    if (!s) continue;
+    const double t[3] = {m[3], m[7], m[11]};
+    const double d = std::hypot(t[0] - last[0], t[1] - last[1], t[2] - last[2]);
+    if (kept == 0 || d >= travel) {
+      ++kept;
+      std::copy(t, t + 3, last);
+    }
+  }
+  return kept;
+}
+
+TEST(EvalProgram, ClampAndInsertionRule) {
+  const fs::path dir = fs::temp_directory_path() / ("ndtom_eval_opt_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string common = "--experiments mapping --lidar '" + kLidar + "' --lidar-scans 3 ";
+  ASSERT_EQ(runEval(common + "--out '" + (dir / "a").string() + "'", dir).exit_code, 0);
+  ASSERT_EQ(runEval(common + "--clamp-max 10 --out '" + (dir / "b").string() + "'", dir).exit_code,
+            0);
+  const Csv a = readCsv(dir / "a" / "fig3_occupancy.csv"),
+            b = readCsv(dir / "b" / "fig3_occupancy.csv");
+  // A higher upper clamp lets hit cells climb further: the mean rises above the default bound.
+  EXPECT_LE(a.number(2, "mean_logodds_occupied"), 3.5);
+  EXPECT_GT(b.number(2, "mean_logodds_occupied"), 3.5);
+  EXPECT_LE(b.number(2, "mean_logodds_occupied"), 10.0);
+
+  const ProgramRun gated = runEval("--experiments mapping --lidar '" + kLidar +
+                                       "' --min-travel 0.01 --out '" + (dir / "c").string() + "'",
+                                   dir);
+  ASSERT_EQ(gated.exit_code, 0) << gated.stderr_text;
+  const size_t expected = keptByTravel(kLidar + "/poses.txt", 0.01);
+  ASSERT_GT(expected, 1u);
+  ASSERT_LT(expected, 10u);
+  EXPECT_EQ(summaryValue(dir / "c" / "summary.csv", "lidar_scans"), double(expected));
+  EXPECT_EQ(summaryValue(dir / "c" / "summary.csv", "lidar_scans_read"), 10.0);
+  EXPECT_EQ(readCsv(dir / "c" / "fig3_occupancy.csv").rows.size(), expected);
   fs::remove_all(dir);
 }
 
