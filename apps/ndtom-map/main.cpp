@@ -103,7 +103,7 @@ int run(const MapperOptions& o) {
                                        o.ellipsoid_detail);
   map.setNdtMap(std::move(mapping.map));
   const OutputSettings output_settings{o.coarse,         o.pictures, o.image_width,
-                                       o.max_ellipsoids, o.octomap,  insertion.threads};
+                                       o.max_ellipsoids, o.octomap,  insertion.insertion.threads};
   const auto coarse = writeMapOutputs(map, mapping.sensor_path, output_settings, out, times);
 
   // The summary, then every file into place at once.

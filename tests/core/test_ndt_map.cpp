@@ -187,7 +187,9 @@ TEST(NdtMapOccupancy, MatchesBruteForceOracleOverRandomScans) {
         const auto pts = randomScan(rng, &origin);
         const auto report = map.insertScan(pts, origin);
         oracle.insert(pts, origin);
-        if (std::isfinite(max_range)) EXPECT_GT(report.truncated, 0u);
+        if (std::isfinite(max_range)) {
+          EXPECT_GT(report.truncated, 0u);
+        }
         expectMatchesOracle(map, oracle);
         if (HasFatalFailure()) return;
       }
