@@ -10,7 +10,8 @@ seconds=${1:-45}
 scripts/setup.sh --with-fuzz
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DNDTOM_FUZZ=ON -DNDTOM_BUILD_TESTS=OFF -DNDTOM_BUILD_APPS=OFF -DNDTOM_WITH_MRPT=ON >/dev/null
-targets=(fuzz_map_loader fuzz_map_decoder fuzz_pcd_reader fuzz_scan_insertion fuzz_mrpt_deserialization)
+targets=(fuzz_map_loader fuzz_map_decoder fuzz_pcd_reader fuzz_scan_insertion fuzz_tiled_map
+  fuzz_mrpt_deserialization)
 cmake --build build-fuzz -j2 --target "${targets[@]}"
 rm -rf build-fuzz/artifacts && mkdir -p build-fuzz/artifacts
 # As scripts/sanitize.sh: alignment reports are recoverable (for MRPT's headers) but halt.
