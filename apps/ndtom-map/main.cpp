@@ -102,8 +102,14 @@ int run(const MapperOptions& o) {
   map.renderOptions = renderOptionsFor(mapping.map, heightScaleOf(mapping.map), o.max_ellipsoids,
                                        o.ellipsoid_detail);
   map.setNdtMap(std::move(mapping.map));
-  const OutputSettings output_settings{o.coarse,         o.pictures, o.image_width,
-                                       o.max_ellipsoids, o.octomap,  insertion.insertion.threads};
+  OutputSettings output_settings;
+  output_settings.coarse = o.coarse;
+  output_settings.pictures = o.pictures;
+  output_settings.image_width = o.image_width;
+  output_settings.max_ellipsoids = o.max_ellipsoids;
+  output_settings.octomap = o.octomap;
+  output_settings.threads = insertion.insertion.threads;
+  output_settings.tile_blocks = o.tile_blocks;
   const auto coarse = writeMapOutputs(map, mapping.sensor_path, output_settings, out, times);
 
   // The summary, then every file into place at once.

@@ -10,6 +10,7 @@
 #include "gzip_members.h"
 #include "height_colors.h"
 #include "ndtom/map_io.h"
+#include "ndtom/tiled_map.h"
 #include "ndtom_apps/run_program.h"
 #include "oblique_view.h"
 #include "octomap_export.h"
@@ -89,6 +90,8 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
   const std::string top_file = settings.pictures ? out.stage("top_view", ".top.png") : "";
   const std::string view_file = settings.pictures ? out.stage("view_3d", ".3d.png") : "";
   const std::string octomap_file = settings.octomap ? out.stage("octomap", ".bt") : "";
+  const std::string tiles_file =
+      settings.tile_blocks > 0 ? out.stage("tiled_map", ".ndtomtiles") : "";
   const bool coarse = settings.coarse >= 2;
   const std::string coarse_file =
       coarse ? out.stage("coarse_map", ".coarse" + std::to_string(settings.coarse) + ".ndtom")
@@ -134,6 +137,8 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
       });
     }
     if (settings.octomap) times.time("octomap", [&] { writeOctomapBinary(ndt, octomap_file); });
+    if (settings.tile_blocks > 0)
+      times.time("tiled_map", [&] { ndtom::saveTiledMap(ndt, tiles_file, settings.tile_blocks); });
     if (coarse)
       times.time("coarse_map", [&] {
         const ndtom::NdtMap coarser = ndt.coarsened(settings.coarse);

@@ -18,6 +18,7 @@ struct OutputSettings {
   uint32_t max_ellipsoids = 50000;
   bool octomap = false;  ///< also PREFIX.bt
   int threads = 1;  ///< above 1, the scene is written beside the other outputs
+  int tile_blocks = 0;  ///< also PREFIX.ndtomtiles (tiles this many blocks a side) if > 0
 };
 
 /// Stages every output in `out` (nothing is committed here), in this order:
@@ -27,6 +28,7 @@ struct OutputSettings {
 ///   .top.png, .3d.png   the pictures (unless disabled)
 ///   .coarseK.ndtom  the map K times coarser (if asked)
 ///   .bt             the map as an OctoMap (if asked)
+///   .ndtomtiles     the map in tiles (if asked)
 /// Returns the coarse map's counts if one was written; adds each output's time to `times`.
 std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap& map,
                                              const std::vector<Eigen::Vector3d>& sensor_path,

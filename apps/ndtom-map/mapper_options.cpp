@@ -75,6 +75,11 @@ const apps::OptionTable<MapperOptions>& optionTable() {
         [](O& o, const std::string& v) { o.passes = int(parseInteger("--passes", v, 1, 1000)); }}},
       {"--no-pictures", {false, [](O& o, const std::string&) { o.pictures = false; }}},
       {"--octomap", {false, [](O& o, const std::string&) { o.octomap = true; }}},
+      {"--tiles",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tile_blocks = int(parseInteger("--tiles", v, 1, 4096));
+        }}},
       {"--image-width",
        {true,
         [](O& o, const std::string& v) {
@@ -187,6 +192,8 @@ std::string helpText() {
        "  --no-pictures             skip the PNGs\n"
        "  --octomap                 also PREFIX.bt: the map as an OctoMap (octovis, OctoMap's\n"
        "                            tools), occupied and free cells with their log-odds\n"
+       "  --tiles B                 also PREFIX.ndtomtiles: the map in tiles of B blocks (8 cells)\n"
+       "                            a side, for loading by region (ndtom-localize)\n"
        "  --image-width W           picture width [px] (1200)\n"
        "  --max-ellipsoids N        Gaussians drawn in the 3D picture and scene (50000)\n"
        "  --ellipsoid-detail D      their tessellation, 0-4: 8*4^D triangles each (by their\n"

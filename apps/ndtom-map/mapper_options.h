@@ -31,6 +31,7 @@ struct MapperOptions {
 
   bool pictures = true;
   bool octomap = false;  ///< also write PREFIX.bt
+  int tile_blocks = 0;   ///< also write PREFIX.ndtomtiles, tiles this many blocks a side; 0 = no
   int image_width = 1200;           ///< pixels (Default: 1200)
   uint32_t max_ellipsoids = 50000;  ///< drawn in the 3D picture and scene (Default: 50000)
   int ellipsoid_detail = -1;        ///< their subdivisions, 0-4; -1: by how many are drawn

@@ -71,6 +71,7 @@ std::string describe(const std::string& role) {
   if (role == "view_3d") return "picture: the map in 3D";
   if (role == "coarse_map") return "the map, coarser (project format)";
   if (role == "octomap") return "the map as an OctoMap (octovis, OctoMap's tools)";
+  if (role == "tiled_map") return "the map in tiles, loadable by region (ndtom-localize)";
   if (role == "summary") return "these figures, as JSON";
   return role;
 }

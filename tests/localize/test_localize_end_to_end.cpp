@@ -8,6 +8,8 @@
 #include <iomanip>
 
 #include "mapper/mapper_run.h"
+#include "ndtom/map_io.h"
+#include "ndtom/tiled_map.h"
 #include "ndtom_io/pose_file.h"
 #include "support/special_files.h"
 
@@ -216,4 +218,39 @@ TEST(LocalizeEndToEnd, BadCommandLinesAndInputsFailCleanly) {
       f.dir);
   EXPECT_EQ(run.exit_code, 1) << run.err;
   EXPECT_NE(run.err.find("times.txt: a FIFO, not a regular file"), std::string::npos) << run.err;
+}
+
+// ndtom-map --tiles writes the same map in tiles; ndtom-localize holds it by region and
+// places every scan where the whole map does.
+TEST(LocalizeEndToEnd, TiledMapFromNdtomMapGivesTheWholeMapsPoses) {
+  Fixture f;
+  const std::string tiled = (f.dir / "tiled").string();
+  const ProgramRun mapped = runMapper(mapper_test::quoted(kLidar) +
+                                          " --max-scans 5 --max-range 30 --no-pictures --tiles 2 -q -o " +
+                                          mapper_test::quoted(tiled),
+                                      f.dir);
+  ASSERT_EQ(mapped.exit_code, 0) << mapped.err;
+  const ndtom::TiledMapFile file(tiled + ".ndtomtiles");
+  EXPECT_GT(file.tiles().size(), 10u);
+  EXPECT_EQ(ndtom::encodeMap(file.loadAll()), ndtom::encodeMap(ndtom::loadMap(tiled + ".ndtom")));
+
+  std::vector<std::vector<ndtom::io::StampedPose>> poses;
+  for (const std::string& map : {f.map, tiled + ".ndtomtiles"}) {
+    const std::string prefix = (f.dir / ("loc-" + std::to_string(poses.size()))).string();
+    const ProgramRun run = runExecutable(
+        kLocalize,
+        mapper_test::quoted(map) + " " + mapper_test::quoted(f.scans.string()) + " -o " +
+            mapper_test::quoted(prefix) + " --no-pictures --region-radius 20 --initial " +
+            mapper_test::quoted(tumPose(f.offStart())),
+        f.dir);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    poses.push_back(ndtom::io::readPoseFile(prefix + ".tum", ndtom::io::PoseFormat::Tum));
+  }
+  ASSERT_EQ(poses[0].size(), 5u);
+  ASSERT_EQ(poses[1].size(), 5u);
+  for (size_t k = 0; k < 5; ++k)
+    EXPECT_LT((poses[0][k].pose.translation() - poses[1][k].pose.translation()).norm(), 0.01) << k;
+  const std::string json = readText((f.dir / "loc-1.summary.json").string());
+  EXPECT_EQ(jsonNumber(json, "tiles_in_file"), double(file.tiles().size()));
+  EXPECT_GT(jsonNumber(json, "loads"), 0);
 }
