@@ -14,8 +14,8 @@ using PoseKind = mapper::Scan::PoseKind;
 
 // The scan's pose from the first registration start that converges, or nothing.
 // Every attempt runs the whole pyramid: starting the prediction's registration on the fine
-// levels alone cost twice the instructions over scans 30-59 (29 G vs 14.5 G, callgrind) as
-// the fine levels then iterate longer and more scans need the retries.
+// levels alone costs more, as the fine levels then iterate longer and more scans need the
+// retries (doc/benchmarks.md, "Measurements behind the code").
 struct Attempt {
   std::string name;
   Eigen::Isometry3d start;

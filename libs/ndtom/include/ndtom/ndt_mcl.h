@@ -71,8 +71,7 @@ ScanNdt buildScanNdt(const std::vector<Eigen::Vector3d>& points, const ScanNdtOp
 /// The Gaussians of a map's occupied cells (all of them without occupancy), regularised as
 /// the map's options say, in one open-addressing table by cell: a lookup is a hash and a
 /// probe or two in one array, where a GaussianLookup goes through a node-based hash map
-/// and a block (half the time of a particle's score, measured). Immutable: concurrent
-/// queries are safe.
+/// and a block, which dominated a particle's score. Immutable: concurrent queries are safe.
 class NdtMclMap {
  public:
   NdtMclMap() = default;
