@@ -109,6 +109,16 @@ Options parse(int argc, char** argv) {
 
 }  // namespace
 
+// The 1 GB bar is for the programs as users run them. Under AddressSanitizer the same run
+// takes about twice the memory (shadow memory, redzones, the quarantine of freed blocks:
+// 1000 points 60 km away took 542 MB in Release and 995-1095 MB under ASan), so the bar
+// doubles there; the normal build's run of this test keeps it at 1 GB.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr uint64_t kOneGigabyteHere = 2000000000;
+#else
+constexpr uint64_t kOneGigabyteHere = 1000000000;
+#endif
+
 int main(int argc, char** argv) {
   Options opt;
   try {
@@ -163,7 +173,7 @@ int main(int argc, char** argv) {
     ++row[verdict];
     if (input < 10000000 && verdict != kMrptCrash) {  // MRPT's reader's memory is not ours
       max_rss_small[k.category] = std::max(max_rss_small[k.category], o.peak_rss);
-      over_1gb_small += o.peak_rss >= 1000000000;
+      over_1gb_small += o.peak_rss >= kOneGigabyteHere;
     }
     char line[512];
     std::snprintf(line, sizeof(line),
@@ -194,8 +204,8 @@ int main(int argc, char** argv) {
   }
   std::printf("| **all** | %d |", total[kColumns]);
   for (int col = 0; col < kColumns; ++col) std::printf(" %d |", total[col]);
-  std::printf(" %.0f MB |\n\nRuns of 1 GB or more on inputs under 10 MB (but MRPT's crashes): %d\n",
-              double(max_all) / 1e6, over_1gb_small);
+  std::printf(" %.0f MB |\n\nRuns of %.0f GB or more on inputs under 10 MB (but MRPT's crashes): %d\n",
+              double(max_all) / 1e6, double(kOneGigabyteHere) / 1e9, over_1gb_small);
   if (!problems.empty()) {
     std::printf("\nNot clean:\n");
     for (const auto& p : problems) std::printf("  %s\n", p.c_str());
