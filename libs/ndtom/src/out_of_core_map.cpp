@@ -15,9 +15,7 @@ OutOfCoreMap::OutOfCoreMap(const MapOptions& options, uint64_t resident_budget, 
                            std::string spill_folder)
     : resident_(options), budget_(resident_budget), tile_blocks_(tile_blocks),
       folder_(std::move(spill_folder)) {
-  if (tile_blocks < 1 || tile_blocks > 4096)
-    throw std::invalid_argument("out-of-core map: tile_blocks " + std::to_string(tile_blocks) +
-                                " is not in 1..4096");
+  checkTileBlocks(tile_blocks, "out-of-core map");
   if (resident_budget == 0) throw std::invalid_argument("out-of-core map: a budget of 0 bytes");
   std::error_code ec;
   std::filesystem::create_directories(folder_, ec);
@@ -35,9 +33,7 @@ std::string OutOfCoreMap::spillPath(const CellIndex& t) const {
 }
 
 Eigen::AlignedBox3d OutOfCoreMap::tileBox(const CellIndex& t) const {
-  const double edge = tile_blocks_ * kBlockEdge * resident_.options().resolution;
-  const Eigen::Vector3d lo(t.x * edge, t.y * edge, t.z * edge);
-  return {lo, lo + Eigen::Vector3d::Constant(edge)};
+  return tileBoxOf(t, tile_blocks_, resident_.options().resolution);
 }
 
 std::set<CellIndex> OutOfCoreMap::tilesMeeting(const Eigen::AlignedBox3d& box) const {

@@ -7,8 +7,9 @@
 #include <map>
 #include <optional>
 
-#include "ndtom_internal/atomic_file.h"
 #include "ndtom/block_grid.h"
+#include "ndtom/option_table.h"
+#include "ndtom_internal/atomic_file.h"
 #include "ndtom_internal/crc32.h"
 
 namespace ndtom {
@@ -55,11 +56,21 @@ CellIndex tileOfBlock(const CellIndex& block, int tile_blocks) {
   return tileOf(block, tile_blocks);
 }
 
+Eigen::AlignedBox3d tileBoxOf(const CellIndex& tile, int tile_blocks, double resolution) {
+  const double edge = tile_blocks * kBlockEdge * resolution;
+  const Eigen::Vector3d lo(tile.x * edge, tile.y * edge, tile.z * edge);
+  return {lo, lo + Eigen::Vector3d::Constant(edge)};
+}
+
+void checkTileBlocks(int tile_blocks, const std::string& what) {
+  if (tile_blocks < 1 || tile_blocks > kMaxTileBlocks)
+    throw std::invalid_argument(what + ": tile_blocks " + std::to_string(tile_blocks) +
+                                " is not in 1.." + std::to_string(kMaxTileBlocks));
+}
+
 void saveTiledMap(const MapOptions& map_options, const std::string& path, int tile_blocks,
                   const std::function<void(const TileSink&)>& fill) {
-  if (tile_blocks < 1 || tile_blocks > kMaxTileBlocks)
-    throw std::invalid_argument("tiled map: tile_blocks " + std::to_string(tile_blocks) +
-                                " is not in 1.." + std::to_string(kMaxTileBlocks));
+  checkTileBlocks(tile_blocks, "tiled map");
   const int tile_cells = tile_blocks * kBlockEdge;
   std::string header(kMagic, sizeof kMagic);
   putU32(header, kVersion);
@@ -74,7 +85,7 @@ void saveTiledMap(const MapOptions& map_options, const std::string& path, int ti
     std::optional<CellIndex> last;
     fill([&](const CellIndex& key, const NdtMap& tile) {
       if (last && !(*last < key)) throw std::invalid_argument("tiled map: tiles out of order");
-      if (optionsBlock(tile.options()) != options)
+      if (firstDifference(tile.options(), map_options, OptionScope::Map))
         throw std::invalid_argument("tiled map: a tile with other options than the map");
       tile.forEachCell([&](const CellView& c) {
         if (tileOf(c.index, tile_cells) != key)
@@ -105,9 +116,7 @@ void saveTiledMap(const MapOptions& map_options, const std::string& path, int ti
 }
 
 void saveTiledMap(const NdtMap& map, const std::string& path, int tile_blocks) {
-  if (tile_blocks < 1 || tile_blocks > kMaxTileBlocks)
-    throw std::invalid_argument("tiled map: tile_blocks " + std::to_string(tile_blocks) +
-                                " is not in 1.." + std::to_string(kMaxTileBlocks));
+  checkTileBlocks(tile_blocks, "tiled map");
   const int tile_cells = tile_blocks * kBlockEdge;
   std::map<CellIndex, NdtMap> tiles;  // ordered: the index's order
   map.forEachCellOrdered([&](const CellView& c) {
@@ -191,9 +200,7 @@ double TiledMapFile::tileEdgeMetres() const {
 }
 
 Eigen::AlignedBox3d TiledMapFile::tileBox(const CellIndex& tile) const {
-  const double edge = tileEdgeMetres();
-  const Eigen::Vector3d lo(tile.x * edge, tile.y * edge, tile.z * edge);
-  return {lo, lo + Eigen::Vector3d::Constant(edge)};
+  return tileBoxOf(tile, tile_blocks_, options_.resolution);
 }
 
 NdtMap TiledMapFile::loadTile(const TileInfo& tile, uint64_t memory_budget) const {
@@ -207,7 +214,7 @@ NdtMap TiledMapFile::loadTile(const TileInfo& tile, uint64_t memory_budget) cons
     throw std::runtime_error("cannot read " + source);
   NdtMap map = decodeMap(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), source,
                          memory_budget);
-  if (optionsBlock(map.options()) != optionsBlock(options_))
+  if (firstDifference(map.options(), options_, OptionScope::Map))
     throw MapFormatError(source + ": options differ from the file's");
   const int tile_cells = tile_blocks_ * kBlockEdge;
   size_t cells = 0;
@@ -221,7 +228,7 @@ NdtMap TiledMapFile::loadTile(const TileInfo& tile, uint64_t memory_budget) cons
 }
 
 void TiledMapFile::addTile(const NdtMap& tile, NdtMap& map) {
-  if (optionsBlock(tile.options()) != optionsBlock(map.options()))
+  if (firstDifference(tile.options(), map.options(), OptionScope::Map))
     throw std::invalid_argument("tiled map: a tile with other options than the map");
   tile.forEachCellOrdered([&](const CellView& c) {
     if (map.cell(c.index)) throw std::invalid_argument("tiled map: a tile's cell is already known");
@@ -231,19 +238,21 @@ void TiledMapFile::addTile(const NdtMap& tile, NdtMap& map) {
 }
 
 NdtMap TiledMapFile::loadRegion(const Eigen::AlignedBox3d& region, uint64_t memory_budget) const {
+  return loadTilesWhere([&](const CellIndex& t) { return tileBox(t).intersects(region); },
+                        memory_budget);
+}
+
+NdtMap TiledMapFile::loadAll(uint64_t memory_budget) const {
+  return loadTilesWhere([](const CellIndex&) { return true; }, memory_budget);
+}
+
+NdtMap TiledMapFile::loadTilesWhere(const std::function<bool(const CellIndex&)>& wanted,
+                                    uint64_t memory_budget) const {
   MapOptions options = options_;
   options.insertion.memory_budget = memory_budget;
   NdtMap map(options);
   for (const TileInfo& t : tiles_)
-    if (tileBox(t.tile).intersects(region)) addTile(loadTile(t, memory_budget), map);
-  return map;
-}
-
-NdtMap TiledMapFile::loadAll(uint64_t memory_budget) const {
-  MapOptions options = options_;
-  options.insertion.memory_budget = memory_budget;
-  NdtMap map(options);
-  for (const TileInfo& t : tiles_) addTile(loadTile(t, memory_budget), map);
+    if (wanted(t.tile)) addTile(loadTile(t, memory_budget), map);
   return map;
 }
 

@@ -52,6 +52,10 @@ void saveTiledMap(const MapOptions& options, const std::string& path, int tile_b
 
 /// The tile of a block, for tiles of `tile_blocks` blocks a side.
 CellIndex tileOfBlock(const CellIndex& block, int tile_blocks);
+/// The space a tile of `tile_blocks` blocks a side covers at `resolution`.
+Eigen::AlignedBox3d tileBoxOf(const CellIndex& tile, int tile_blocks, double resolution);
+/// Throws std::invalid_argument naming `what` unless tile_blocks is in 1..4096.
+void checkTileBlocks(int tile_blocks, const std::string& what);
 
 class TiledMapFile {
  public:
@@ -78,6 +82,9 @@ class TiledMapFile {
   static void addTile(const NdtMap& tile, NdtMap& map);
 
  private:
+  NdtMap loadTilesWhere(const std::function<bool(const CellIndex&)>& wanted,
+                        uint64_t memory_budget) const;
+
   std::string path_;
   MapOptions options_;
   int tile_blocks_ = 1;
