@@ -1,5 +1,6 @@
 #include "scan_update.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -19,7 +20,7 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
   report.points_in = points.size();
   s_.free_counts.reset();
   checkBudgetForPoints(points.size());
-  const ScanContext scan{map_.geometry(), options_, origin, s_.pool};
+  const ScanContext scan{map_.geometry(), options_, origin, s_.pool, owned_};
   const bool occupancy = map_.options().occupancy.enabled;
   const bool ray_per_group = occupancy && options_.ray_mode == RayMode::PerHitCell;
 
@@ -28,6 +29,7 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
     classifyPoints(scan, points, s_.points, report);
     sortRayEnds(scan, s_.points, s_.ray_ends);
     groupEnds(scan, s_.points, s_.ray_ends, /*with_means=*/ray_per_group, s_.groups, report);
+    if (owned_) dropHitsOutside(*owned_);
     checkBudgetForEnds(report);
     if (occupancy) traceFreeRaysInBudget(scan, report);
     const MapChange change = applyToMap(scan, map_.options(), s_.groups, s_.free_counts,
@@ -42,6 +44,16 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
     throw;
   }
   return report;
+}
+
+void ScanUpdater::dropHitsOutside(const TileOwnership& owned) {
+  // Other processes update these cells; the groups stay, as per-hit-cell rays start from them.
+  std::vector<HitBlock>& hits = s_.groups.hit_blocks;
+  hits.erase(std::remove_if(hits.begin(), hits.end(),
+                            [&](const HitBlock& h) {
+                              return !owned.ownsBlock(blockOf(s_.groups.blockCell(h)));
+                            }),
+             hits.end());
 }
 
 void ScanUpdater::checkBudgetForPoints(size_t points) {

@@ -41,12 +41,16 @@ class ScanUpdater {
   static constexpr uint64_t kBytesPerNewBlock =
       ScanCounts::kBytesPerBlock + BlockGrid<MapBlock>::kBytesPerBlock;
 
-  ScanUpdater(NdtMap& map, const InsertOptions& options, ScanScratch& scratch)
-      : map_(map), options_(options), s_(scratch) {}
+  /// `owned`: only these tiles' cells change (a distributed build's process); nullptr: all.
+  ScanUpdater(NdtMap& map, const InsertOptions& options, ScanScratch& scratch,
+              const TileOwnership* owned = nullptr)
+      : map_(map), options_(options), s_(scratch), owned_(owned) {}
 
   InsertionReport run(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& origin);
 
  private:
+  /// A distributed build's process: forgets the hits in other processes' tiles.
+  void dropHitsOutside(const TileOwnership& owned);
   /// Memory budget, before classification: the map and the scan's per-point buffers.
   void checkBudgetForPoints(size_t points);
   /// Before tracing: the blocks of the hits (a lower bound of the blocks the scan adds) and
@@ -58,6 +62,7 @@ class ScanUpdater {
   NdtMap& map_;
   const InsertOptions& options_;
   ScanScratch& s_;
+  const TileOwnership* owned_;
   uint64_t budget_used_ = 0;             ///< map + this scan's buffers, as estimated so far (bytes)
   std::atomic<int64_t> blocks_left_{0};  ///< new blocks tracing may add (memory budget)
 };

@@ -21,6 +21,7 @@
 #include "ndtom/gaussian.h"
 #include "ndtom/insertion_report.h"
 #include "ndtom/options.h"
+#include "ndtom/tile_ownership.h"
 
 namespace ndtom {
 
@@ -61,6 +62,14 @@ class NdtMap {
                              const Eigen::Vector3d& sensor_origin);
   InsertionReport insertScan(const std::vector<Eigen::Vector3d>& points,
                              const Eigen::Vector3d& sensor_origin, const InsertOptions& options);
+  /// insertScan for one process of a distributed build: changes only the cells of the tiles
+  /// `owned` owns, exactly as insertScan would change them (no other cell changes), walking
+  /// only the rays' stretches through those tiles. Processes that own disjoint tiles and each
+  /// insert every scan in the same order together hold the serial map, bit for bit. Throws
+  /// std::invalid_argument for an invalid ownership, as insertScan otherwise.
+  InsertionReport insertScanPart(const std::vector<Eigen::Vector3d>& points,
+                                 const Eigen::Vector3d& sensor_origin,
+                                 const InsertOptions& options, const TileOwnership& owned);
 
   // --- Queries: const, never allocate, never change the map -------------------------------
 

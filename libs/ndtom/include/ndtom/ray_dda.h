@@ -86,11 +86,15 @@ struct CellVisitorWalker {
   bool visit() { return visitor(static_cast<const CellIndex&>(cell)); }
 };
 
+/// The walk of [from, to] from `first`, a cell it passes through, to its end or to the last
+/// crossing at a time t <= t_end (<= 1), whichever comes first. The walk's next step depends
+/// only on its current cell (crossing times come from boundary indices, not accumulated), so
+/// a walk resumed at a cell continues exactly as the walk from `from` would.
 template <class Walker>
-[[gnu::always_inline]] inline void walkSegment(const GridGeometry& geometry,
-                                               const Eigen::Vector3d& from,
-                                               const Eigen::Vector3d& to, Walker& walker) {
-  const CellIndex first = geometry.cellOf(from);
+[[gnu::always_inline]] inline void walkSegmentFrom(const GridGeometry& geometry,
+                                                   const Eigen::Vector3d& from,
+                                                   const Eigen::Vector3d& to, const CellIndex& first,
+                                                   double t_end, Walker& walker) {
   const CellIndex last = geometry.cellOf(to);
   if (first == last) return;
   walker.start(first);
@@ -133,23 +137,23 @@ template <class Walker>
     // (doc/benchmarks.md). Each branch guards against rounding taking the walk past the end
     // of the segment.
     if (tx < ty && tx < tz) {
-      if (!(tx <= 1.0)) return;
+      if (!(tx <= t_end)) return;
       bx += dx;
       walker.template move<0>(sx);
       tx = crossingTime(bx * r, fx, ix);
     } else if (ty < tx && ty < tz) {
-      if (!(ty <= 1.0)) return;
+      if (!(ty <= t_end)) return;
       by += dy;
       walker.template move<1>(sy);
       ty = crossingTime(by * r, fy, iy);
     } else if (tz < tx && tz < ty) {
-      if (!(tz <= 1.0)) return;
+      if (!(tz <= t_end)) return;
       bz += dz;
       walker.template move<2>(sz);
       tz = crossingTime(bz * r, fz, iz);
     } else {  // through an edge or a corner: up-steps first, then the down-steps
       const double t = std::min(tx, std::min(ty, tz));
-      if (!(t <= 1.0)) return;
+      if (!(t <= t_end)) return;
       cell[0] = int32_t(bx) - up[0], cell[1] = int32_t(by) - up[1], cell[2] = int32_t(bz) - up[2];
       t_next[0] = tx, t_next[1] = ty, t_next[2] = tz;
       bool crossing[3], moved_up = false, down_pending = false;
@@ -181,6 +185,13 @@ template <class Walker>
     }
     if (--remaining <= 0) return;
   }
+}
+
+template <class Walker>
+[[gnu::always_inline]] inline void walkSegment(const GridGeometry& geometry,
+                                               const Eigen::Vector3d& from,
+                                               const Eigen::Vector3d& to, Walker& walker) {
+  walkSegmentFrom(geometry, from, to, geometry.cellOf(from), 1.0, walker);
 }
 
 }  // namespace detail

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 
+#include "ndtom/owned_ray_walk.h"
 #include "ndtom/ray_dda.h"
+#include "owned_counting.h"
 
 namespace ndtom {
 
@@ -65,29 +67,48 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
   for (size_t t = 0; t < threads; ++t) cursors[t].next.store(bounds[t], std::memory_order_relaxed);
   constexpr size_t kRaysPerTake = 256;
   scan.pool.run(threads, [&](size_t t) {
-    CountingWalker count(out.tables[t]);
-    for (size_t k = 0; k < threads; ++k) {  // its own range first, then the others'
-      const size_t range = (t + k) % threads, range_end = bounds[range + 1];
-      for (;;) {
-        const size_t begin = cursors[range].next.fetch_add(kRaysPerTake, std::memory_order_relaxed);
-        if (begin >= range_end) break;
-        const size_t end = std::min(range_end, begin + kRaysPerTake);
-        // One call per mode keeps the mode test out of the per-ray loop.
-        if (per_point) {
-          count = walkRays(
-              geometry, origin, begin, end, [&](size_t i, CountingWalker&) { return rayEnd(i); },
-              count);
-        } else {
-          count = walkRays(
-              geometry, origin, begin, end,
-              [&](size_t i, CountingWalker& walker) {
-                walker.setWeight(groups.groups[i].count);  // one ray per hit group, its weight
-                return &groups.groups[i].mean_end;
-              },
-              count);
+    auto forEachTake = [&](auto&& walkRange) {
+      for (size_t k = 0; k < threads; ++k) {  // its own range first, then the others'
+        const size_t range = (t + k) % threads, range_end = bounds[range + 1];
+        for (;;) {
+          const size_t begin =
+              cursors[range].next.fetch_add(kRaysPerTake, std::memory_order_relaxed);
+          if (begin >= range_end) break;
+          walkRange(begin, std::min(range_end, begin + kRaysPerTake));
         }
       }
+    };
+    if (scan.owned) {  // a process of a distributed build: its tiles' stretches of the rays
+      OwnedCountingWalker count(out.tables[t], *scan.owned);
+      OwnedRayWalk walk;
+      forEachTake([&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+          const Eigen::Vector3d* to = rayEnd(i);
+          if (!to) continue;
+          if (!per_point) count.setWeight(groups.groups[i].count);
+          walk.walk(geometry, origin, *to, *scan.owned, count);
+        }
+      });
+      visits[t] = count.visits();
+      return;
     }
+    CountingWalker count(out.tables[t]);
+    forEachTake([&](size_t begin, size_t end) {
+      // One call per mode keeps the mode test out of the per-ray loop.
+      if (per_point) {
+        count = walkRays(
+            geometry, origin, begin, end, [&](size_t i, CountingWalker&) { return rayEnd(i); },
+            count);
+      } else {
+        count = walkRays(
+            geometry, origin, begin, end,
+            [&](size_t i, CountingWalker& walker) {
+              walker.setWeight(groups.groups[i].count);  // one ray per hit group, its weight
+              return &groups.groups[i].mean_end;
+            },
+            count);
+      }
+    });
     visits[t] = count.visits();
   });
   report.rays_cast = rays;

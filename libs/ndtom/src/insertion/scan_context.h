@@ -9,6 +9,7 @@
 #include "../parallel.h"
 #include "ndtom/cell_index.h"
 #include "ndtom/options.h"
+#include "ndtom/tile_ownership.h"
 
 namespace ndtom {
 
@@ -24,6 +25,8 @@ struct ScanContext {
   const InsertOptions& options;
   Eigen::Vector3d origin;  ///< the sensor, world frame
   WorkerPool& pool;
+  /// A distributed build's process: only these tiles' cells change. nullptr: all cells.
+  const TileOwnership* owned = nullptr;
 
   /// Threads for `items` of work, at least `min_items_per_thread` each, at most the options'.
   size_t threadsFor(size_t items, size_t min_items_per_thread) const {

@@ -1,0 +1,158 @@
+// A distributed build's process (tile_ownership.h) walks only its tiles' stretches of each
+// ray and changes only its tiles' cells. Checked against the serial walk and the serial map:
+// over all processes every cell of every ray is walked exactly once, and the processes' maps
+// put together are the serial map bit for bit, for either ray mode and any thread count.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+
+#include "ndtom/map_io.h"
+#include "ndtom/owned_ray_walk.h"
+#include "ndtom/ray_dda.h"
+#include "support/lidar_scans.h"
+#include "support/map_equality.h"
+
+using ndtom::CellIndex;
+using ndtom::GridGeometry;
+using ndtom::NdtMap;
+using ndtom::TileOwnership;
+
+namespace {
+
+// Records the owned cells it visits, as OwnedRayWalk's walkers must, and counts its steps.
+struct RecordingWalker {
+  const TileOwnership* owned;
+  std::map<CellIndex, int>* visited;
+  CellIndex cell{};
+  size_t steps = 0;
+
+  void start(const CellIndex& c) { cell = c; }
+  template <int Axis>
+  void move(int32_t step) {
+    cell[Axis] += step;
+    ++steps;
+  }
+  bool visit() {
+    if (owned->ownsBlock(ndtom::blockOf(cell))) ++(*visited)[cell];
+    return true;
+  }
+};
+
+std::map<CellIndex, int> serialWalk(const GridGeometry& g, const Eigen::Vector3d& from,
+                                    const Eigen::Vector3d& to) {
+  std::map<CellIndex, int> cells;
+  ndtom::traverseRay(g, from, to, [&](const CellIndex& c) {
+    ++cells[c];
+    return true;
+  });
+  return cells;
+}
+
+// Every rank's owned walk, summed; the steps all ranks took.
+std::map<CellIndex, int> ownedWalks(const GridGeometry& g, const Eigen::Vector3d& from,
+                                    const Eigen::Vector3d& to, int tile_blocks, int ranks,
+                                    size_t& steps) {
+  std::map<CellIndex, int> cells;
+  ndtom::OwnedRayWalk walk;
+  for (int rank = 0; rank < ranks; ++rank) {
+    const TileOwnership owned{tile_blocks, rank, ranks};
+    RecordingWalker w{&owned, &cells};
+    walk.walk(g, from, to, owned, w);
+    steps += w.steps;
+  }
+  return cells;
+}
+
+}  // namespace
+
+TEST(OwnedRayWalk, AllRanksTogetherWalkEachCellOfTheSerialWalkOnce) {
+  std::mt19937 rng(7);
+  for (const double resolution : {0.2, 0.25}) {  // 0.25: boundaries exact in binary
+    const GridGeometry g(resolution);
+    std::uniform_real_distribution<double> coordinate(-30, 30);
+    std::uniform_int_distribution<int> lattice(-100, 100);
+    for (int ray = 0; ray < 3000; ++ray) {
+      Eigen::Vector3d from, to;
+      if (ray % 3 == 0) {  // on cell and tile boundaries: through edges and corners
+        from = Eigen::Vector3d(lattice(rng), lattice(rng), lattice(rng)) * resolution;
+        to = Eigen::Vector3d(lattice(rng), lattice(rng), lattice(rng)) * resolution;
+        if (ray % 6 == 0) to = from + (to - from).normalized().cwiseSign() * 16 * resolution * 3;
+      } else {
+        from = Eigen::Vector3d(coordinate(rng), coordinate(rng), coordinate(rng));
+        to = Eigen::Vector3d(coordinate(rng), coordinate(rng), coordinate(rng));
+      }
+      if (ray % 5 == 1) to.z() = from.z();  // in a plane
+      const auto serial = serialWalk(g, from, to);
+      for (const int tile_blocks : {1, 2}) {
+        for (const int ranks : {1, 2, 3}) {
+          size_t steps = 0;
+          const auto together = ownedWalks(g, from, to, tile_blocks, ranks, steps);
+          ASSERT_EQ(together, serial) << "ray " << ray << " from " << from.transpose() << " to "
+                                      << to.transpose() << ", tiles of " << tile_blocks
+                                      << " blocks, " << ranks << " ranks";
+        }
+      }
+    }
+  }
+}
+
+TEST(OwnedRayWalk, RanksJumpOverOtherRanksTiles) {
+  const GridGeometry g(0.2);
+  const Eigen::Vector3d from(0.05, 0.07, 0.03), to(57.1, 23.3, 4.9);
+  size_t serial_steps = 0;
+  ndtom::traverseRay(g, from, to, [&](const CellIndex&) { return ++serial_steps, true; });
+  for (const int ranks : {2, 4, 8}) {
+    size_t steps = 0;
+    ownedWalks(g, from, to, 4, ranks, steps);
+    // Each rank walks about its share plus a few cells per stretch; all of them together
+    // not much more than the serial walk.
+    EXPECT_LT(steps, serial_steps * 5 / 4) << ranks << " ranks";
+    EXPECT_GT(steps, serial_steps / 2) << ranks << " ranks";
+  }
+}
+
+TEST(DistributedBuild, ProcessesMapsTogetherAreTheSerialMapBitForBit) {
+  const auto scans = ndtom::testing::lidarScansInWorld(4);
+  for (const auto mode : {ndtom::RayMode::PerPoint, ndtom::RayMode::PerHitCell}) {
+    ndtom::MapOptions o;
+    o.resolution = 0.4;
+    o.insertion.max_range = 30;
+    o.insertion.ray_mode = mode;
+    o.occupancy.logodds_max = 1.0;  // clamps after a few scans: a merge of maps would not
+    NdtMap serial(o);
+    for (const auto& s : scans) serial.insertScan(s.points, s.origin);
+    for (const int ranks : {1, 2, 3}) {
+      for (const int threads : {1, 2}) {
+        SCOPED_TRACE(testing::Message() << "mode " << int(mode) << ", " << ranks << " ranks, "
+                                        << threads << " threads");
+        ndtom::InsertOptions insert = o.insertion;
+        insert.threads = threads;
+        NdtMap together(o);
+        for (int rank = 0; rank < ranks; ++rank) {
+          const TileOwnership owned{2, rank, ranks};
+          NdtMap part(o);
+          for (const auto& s : scans) part.insertScanPart(s.points, s.origin, insert, owned);
+          size_t foreign = 0;
+          part.forEachBlock([&](const CellIndex& b) { foreign += !owned.ownsBlock(b); });
+          EXPECT_EQ(foreign, 0u);
+          if (ranks > 1) {
+            EXPECT_LT(part.numCells(), serial.numCells() * 3 / 4);
+          }
+          together.absorbBlocks(std::move(part));
+        }
+        ndtom::testing::expectBitIdentical(serial, together);
+        EXPECT_EQ(ndtom::encodeMap(serial), ndtom::encodeMap(together));
+      }
+    }
+  }
+}
+
+TEST(DistributedBuild, RefusesAnInvalidOwnership) {
+  NdtMap map;
+  const std::vector<Eigen::Vector3d> points{{1, 0, 0}};
+  for (const TileOwnership bad : {TileOwnership{0, 0, 1}, TileOwnership{1, 2, 2},
+                                  TileOwnership{1, -1, 2}, TileOwnership{1, 0, 0}})
+    EXPECT_THROW(map.insertScanPart(points, {0, 0, 0}, {}, bad), std::invalid_argument);
+  EXPECT_TRUE(map.isEmpty());
+}
