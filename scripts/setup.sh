@@ -13,6 +13,7 @@ packages=(
   libeigen3-dev libopencv-dev
   libmrpt-dev mrpt-apps mrpt-common
   liboctomap-dev
+  openmpi-bin libopenmpi-dev  # ndtom-map-mpi, the distributed build
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth
   zlib1g-dev  # ndtom-map compresses its scene itself

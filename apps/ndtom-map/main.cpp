@@ -14,26 +14,11 @@
 #include "oblique_view.h"
 #include "run_summary.h"
 #include "scan_source.h"
+#include "source_settings.h"
 
 using namespace ndtom::mapper;
 
 namespace {
-
-SourceSettings sourceSettingsFor(const MapperOptions& o, const InsertionOptions& insertion) {
-  SourceSettings s;
-  s.input = o.input;
-  s.format = o.format == InputFormat::Auto ? detectInputFormat(o.input) : o.format;
-  s.poses_file = o.poses_file;
-  s.pose_format = o.pose_format;
-  s.pose_time_tolerance = o.pose_time_tolerance;
-  s.camera = o.camera;
-  s.decimation = insertion.decimation;
-  s.decimation_3d_range = insertion.decimation_3d_range;
-  s.max_scans = o.max_scans;
-  s.max_scan_points =
-      ndtom::NdtMap::maxScanPoints(insertion.toMapOptions().insertion.memory_budget);
-  return s;
-}
 
 void requireSomePoints(const MappingResult& mapping, const std::string& input) {
   if (mapping.points.pointsUsed() > 0) return;

@@ -1,0 +1,55 @@
+#include "mpi_options.h"
+
+#include <vector>
+
+#include "ndtom_apps/option_values.h"
+
+namespace ndtom::mapper {
+
+MpiOptions parseMpiOptions(int argc, char** argv) {
+  MpiOptions o;
+  std::vector<char*> rest{argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw apps::UsageError(arg + " needs a value");
+      return argv[++i];
+    };
+    if (arg == "--scan-input") {
+      const std::string v = value();
+      if (v == "each") {
+        o.scan_input = ScanInput::EachReads;
+      } else if (v == "broadcast") {
+        o.scan_input = ScanInput::Broadcast;
+      } else {
+        throw apps::UsageError("--scan-input '" + v + "': use each or broadcast");
+      }
+    } else if (arg == "--rank-tiles") {
+      o.rank_tiles = int(apps::parseInteger("--rank-tiles", value(), 1, 4096));
+    } else {
+      rest.push_back(argv[i]);
+    }
+  }
+  o.map = parseMapperOptions(int(rest.size()), rest.data());
+  if (o.map.passes != 1) throw apps::UsageError("--passes: ndtom-map-mpi makes one pass");
+  return o;
+}
+
+std::string mpiHelpText() {
+  return "Usage: mpirun -np N ndtom-map-mpi INPUT -o PREFIX [options]\n"
+         "\n"
+         "ndtom-map with the insertion spread over N MPI processes. Space is dealt out in\n"
+         "tiles (a hash of the tile over the processes); every process inserts every scan but\n"
+         "walks only the rays' stretches through its tiles and updates only their cells, so\n"
+         "the map is the one ndtom-map builds, bit for bit. Process 0 gathers the parts and\n"
+         "writes ndtom-map's outputs, and PREFIX.summary.json with a \"distributed\" block.\n"
+         "\n"
+         "  --scan-input each|broadcast  each process reads the input itself (a shared file\n"
+         "                            system; the default), or process 0 reads and broadcasts\n"
+         "  --rank-tiles B            tiles of B blocks (8 cells) a side are dealt out (Default: 4)\n"
+         "\n"
+         "Every ndtom-map option applies except --passes (one pass). ndtom-map's help:\n\n" +
+         helpText();
+}
+
+}  // namespace ndtom::mapper

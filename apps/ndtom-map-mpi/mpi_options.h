@@ -1,0 +1,23 @@
+// The command line of ndtom-map-mpi: ndtom-map's options, plus how the processes share the
+// work.
+#pragma once
+
+#include <string>
+
+#include "mapper_options.h"
+#include "scan_feed.h"
+
+namespace ndtom::mapper {
+
+struct MpiOptions {
+  MapperOptions map;  ///< every ndtom-map option
+  ScanInput scan_input = ScanInput::EachReads;
+  int rank_tiles = 4;  ///< edge, in blocks, of the tiles dealt out to the processes
+};
+
+/// Takes --scan-input and --rank-tiles, hands the rest to parseMapperOptions. Throws
+/// apps::UsageError with a one-line message.
+MpiOptions parseMpiOptions(int argc, char** argv);
+std::string mpiHelpText();
+
+}  // namespace ndtom::mapper

@@ -1,0 +1,63 @@
+#include "scan_feed.h"
+
+#include <array>
+#include <climits>
+#include <stdexcept>
+
+namespace ndtom::mapper {
+namespace {
+
+// What a scan is besides its points, as doubles: origin, frame pose (4x4), time, point count.
+constexpr int kHeader = 3 + 16 + 1 + 1;
+
+void broadcast(void* data, uint64_t bytes, MPI_Comm comm) {
+  auto* p = static_cast<char*>(data);
+  for (uint64_t done = 0; done < bytes;) {  // MPI counts are ints
+    const int n = int(std::min<uint64_t>(bytes - done, INT_MAX / 2));
+    MPI_Bcast(p + done, n, MPI_BYTE, 0, comm);
+    done += uint64_t(n);
+  }
+}
+
+}  // namespace
+
+ScanFeed::ScanFeed(ScanInput mode, std::unique_ptr<ScanSource> source, MPI_Comm comm)
+    : mode_(mode), source_(std::move(source)), comm_(comm) {
+  MPI_Comm_rank(comm_, &rank_);
+  if (!source_ && (mode_ == ScanInput::EachReads || rank_ == 0))
+    throw std::logic_error("ScanFeed: no scan source");
+}
+
+std::optional<Scan> ScanFeed::next() {
+  if (mode_ == ScanInput::EachReads) return source_->next();
+  std::optional<Scan> scan;
+  std::array<double, kHeader> header{};
+  int more = 0;
+  if (rank_ == 0) {
+    scan = source_->next();
+    more = scan.has_value();
+  }
+  MPI_Bcast(&more, 1, MPI_INT, 0, comm_);
+  if (!more) return std::nullopt;
+  if (rank_ == 0) {
+    for (int a = 0; a < 3; ++a) header[size_t(a)] = scan->sensor_origin[a];
+    Eigen::Map<Eigen::Matrix4d>(header.data() + 3) = scan->frame_pose.matrix();
+    header[19] = scan->time;
+    header[20] = double(scan->points_world.size());
+  }
+  MPI_Bcast(header.data(), kHeader, MPI_DOUBLE, 0, comm_);
+  if (rank_ != 0) {
+    scan.emplace();
+    scan->sensor_origin = Eigen::Vector3d(header[0], header[1], header[2]);
+    scan->frame_pose.matrix() = Eigen::Map<const Eigen::Matrix4d>(header.data() + 3);
+    scan->time = header[19];
+    scan->points_world.resize(size_t(header[20]));
+    scan->name = "scan at " + std::to_string(scan->time) + " s";
+  }
+  const uint64_t bytes = scan->points_world.size() * sizeof(Eigen::Vector3d);
+  broadcast(scan->points_world.data(), bytes, comm_);
+  bytes_ += bytes + sizeof(header) + sizeof(more);
+  return scan;
+}
+
+}  // namespace ndtom::mapper
