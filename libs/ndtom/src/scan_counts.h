@@ -91,6 +91,22 @@ class alignas(64) ScanCounts {  // one per thread: no shared cache line
     reset();
   }
   void zeroBlock(size_t i) { blocks_[i]->zero(); }
+  /// Forgets (zeroed, for reuse) the blocks whose index `keep` refuses; the others keep their
+  /// counters, in their order. Neighbour links are not valid afterwards (until the next scan).
+  template <class Keep>
+  void keepBlocksWhere(Keep&& keep) {
+    size_t kept = 0;
+    for (size_t i = 0; i < used_.size(); ++i) {
+      if (!keep(used_[i])) {
+        blocks_[i]->zero();
+        continue;
+      }
+      std::swap(blocks_[kept], blocks_[i]);
+      used_[kept++] = used_[i];
+    }
+    used_.resize(kept);
+    rehash(table_.size());
+  }
   /// After every block was zeroed by zeroBlock().
   void reset() {
     // Erasing entry by entry would break linear-probe chains; the table is small (16 bytes

@@ -18,25 +18,30 @@ namespace ndtom {
 class OwnedRayWalk {
  public:
   /// Visits, in order, the cells of walkRay(from, to) that lie in tiles `owned` owns, with
-  /// walkRay's walker interface. The walker must itself ignore visits of cells outside owned
-  /// tiles: each stretch of owned tiles is walked from the cell before it (already visited,
-  /// in another rank's tile) to the cell after it. Over all ranks, each cell of
-  /// walkRay(from, to) is visited in exactly one rank's owned tile.
+  /// walkRay's walker interface, and a few more: each stretch of owned tiles is walked from
+  /// the cell before it to the cells after it (in other processes' tiles), which the caller
+  /// must ignore. Over all processes, each cell of walkRay(from, to) is visited exactly once
+  /// in an owned tile.
   template <class Walker>
   void walk(const GridGeometry& geometry, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
             const TileOwnership& owned, Walker& walker);
 
  private:
-  struct Crossing {  // of a tile boundary
-    double t;
-    int axis, step;
-  };
   struct Stretch {       // of consecutive owned tiles
     double t_in, t_out;  ///< entered at t_in (-inf: at the start), left at t_out (+inf: never)
     CellIndex resume;    ///< the walk's cell after every crossing before t_in
   };
-  std::vector<Crossing> crossings_;
+  bool ownsTile(const TileOwnership& owned, const CellIndex& tile) {
+    if (!(tile == cached_tile_) || owned.rank != cached_for_.rank ||  // rays share first tiles
+        owned.ranks != cached_for_.ranks || owned.tile_blocks != cached_for_.tile_blocks) {
+      cached_tile_ = tile, cached_for_ = owned, cached_owned_ = owned.ownsTile(tile);
+    }
+    return cached_owned_;
+  }
   std::vector<Stretch> stretches_;
+  CellIndex cached_tile_;
+  TileOwnership cached_for_{1, 0, 0};  // matches no real ownership
+  bool cached_owned_ = false;
 };
 
 // --- Implementation --------------------------------------------------------------------
@@ -57,7 +62,9 @@ inline bool cellBefore(const GridGeometry& geometry, const Eigen::Vector3d& from
     int32_t c = first[a];
     if (delta != 0) {
       const double inv = 1.0 / delta;
-      const double guess = std::floor((from[a] + t * delta) / r);  // corrected below
+      // Near the answer (corrected below); cast and adjust: std::floor is a call on baseline x86-64.
+      const double scaled = (from[a] + t * delta) / r;
+      const double guess = double(int32_t(scaled) - (scaled < double(int32_t(scaled))));
       auto crossing = [&](int32_t boundary) { return crossingTime(double(boundary) * r, from[a], inv); };
       if (delta > 0) {  // leaves cell c at boundary c + 1
         c = int32_t(std::clamp(guess, double(first[a]), double(last[a])));
@@ -85,67 +92,73 @@ void OwnedRayWalk::walk(const GridGeometry& geometry, const Eigen::Vector3d& fro
   if (first == last) return;
   const int32_t edge = owned.tileCells();
   const double r = geometry.resolution();
-  CellIndex tile{floorDiv(first.x, edge), floorDiv(first.y, edge), floorDiv(first.z, edge)};
+  constexpr double kInf = std::numeric_limits<double>::infinity();
 
-  // The tile boundaries the walk crosses, at the walk's own crossing times.
-  crossings_.clear();
+  // The walk at the scale of tiles: the same crossing times (computed from the same boundary
+  // indices), the same order (at equal times up-steps first), gathered into stretches of owned
+  // tiles. Stretches that touch are joined: each crossing time then belongs to one stretch at
+  // most, so no cell is visited twice.
+  CellIndex tile{floorDiv(first.x, edge), floorDiv(first.y, edge), floorDiv(first.z, edge)};
+  int32_t step[3], boundary[3];  // the next tile boundary, in tiles
+  double inv[3], t_next[3];
   for (int a = 0; a < 3; ++a) {
     const double delta = to[a] - from[a];
-    if (delta == 0) continue;
-    const double inv = 1.0 / delta;
-    const int step = delta > 0 ? 1 : -1;
-    for (int32_t boundary_tile = delta > 0 ? tile[a] + 1 : tile[a];; boundary_tile += step) {
-      const double t = crossingTime(double(int64_t(boundary_tile) * edge) * r, from[a], inv);
-      if (!(t <= 1.0)) break;
-      crossings_.push_back({t, a, step});
-    }
+    step[a] = delta > 0 ? 1 : (delta < 0 ? -1 : 0);
+    inv[a] = delta != 0 ? 1.0 / delta : 0.0;
+    boundary[a] = tile[a] + (delta > 0);
+    t_next[a] = delta != 0 ? crossingTime(double(int64_t(boundary[a]) * edge) * r, from[a], inv[a])
+                           : kInf;
   }
-  std::sort(crossings_.begin(), crossings_.end(),
-            [](const Crossing& u, const Crossing& v) { return u.t < v.t; });
-
-  // The tiles in the walk's order (at equal times up-steps first, as the walk does), gathered
-  // into stretches of owned tiles. Stretches that touch are joined: each crossing time then
-  // belongs to one stretch at most, so no cell is visited twice.
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   stretches_.clear();
-  auto enter = [&](double t) {
-    const bool mine = owned.ownsTile(tile);
-    const bool open = !stretches_.empty() && stretches_.back().t_out == kInf;
-    if (mine && !open) {
-      if (!stretches_.empty() && stretches_.back().t_out >= t)
-        stretches_.back().t_out = kInf;  // reopened at the instant it closed
-      else
-        stretches_.push_back({t, kInf, first});
-    } else if (!mine && open) {
-      stretches_.back().t_out = t;
+  bool here = ownsTile(owned, tile);  // the current tile is owned
+  bool open = here;                   // a stretch is open
+  double t_in = -kInf;
+  for (;;) {
+    const double t = std::min(t_next[0], std::min(t_next[1], t_next[2]));
+    if (!(t <= 1.0)) break;
+    bool owned_on_the_way = false, moved = false;
+    for (const int direction : {1, -1}) {
+      bool moved_now = false;
+      for (int a = 0; a < 3; ++a) {
+        if (t_next[a] != t || step[a] != direction) continue;
+        tile[a] += direction;
+        boundary[a] += direction;
+        t_next[a] = crossingTime(double(int64_t(boundary[a]) * edge) * r, from[a], inv[a]);
+        moved_now = true;
+      }
+      if (moved_now && moved) owned_on_the_way = here;  // the tile between up- and down-steps
+      if (moved_now) here = ownsTile(owned, tile), moved = true;
     }
-  };
-  enter(-kInf);
-  for (size_t i = 0; i < crossings_.size();) {
-    size_t j = i;
-    while (j < crossings_.size() && crossings_[j].t == crossings_[i].t) ++j;
-    for (int step : {1, -1}) {
-      bool moved = false;
-      for (size_t k = i; k < j; ++k)
-        if (crossings_[k].step == step) tile[crossings_[k].axis] += step, moved = true;
-      if (moved) enter(crossings_[i].t);
+    const bool mine = here;
+    if (open && !mine) {
+      stretches_.push_back({t_in, t, first});
+      open = false;
+    } else if (!open && mine) {
+      t_in = t, open = true;
+    } else if (!open && owned_on_the_way) {
+      stretches_.push_back({t, t, first});  // an owned tile touched at one instant
     }
-    i = j;
   }
+  if (open) stretches_.push_back({t_in, kInf, first});
+  if (stretches_.empty()) return;
 
   // Where each stretch resumes: in the tile before it, not owned (else the stretches would
   // have been joined). If any cannot resume, the whole walk (the walker filters it).
-  for (Stretch& s : stretches_) {
-    if (s.t_in == -kInf) continue;
-    if (!detail::cellBefore(geometry, from, to, first, last, s.t_in, s.resume)) {
-      detail::walkSegmentFrom(geometry, from, to, first, 1.0, walker);
-      return;
+  // A local walker, not the reference: its state can live in registers during the walk.
+  Walker local(std::move(walker));
+  bool resumable = true;
+  for (Stretch& s : stretches_)
+    if (s.t_in != -kInf)
+      resumable = resumable && detail::cellBefore(geometry, from, to, first, last, s.t_in, s.resume);
+  if (!resumable) {
+    detail::walkSegmentFrom(geometry, from, to, first, 1.0, local);
+  } else {
+    for (const Stretch& s : stretches_) {
+      if (s.resume == last) break;  // the walk ended before this stretch
+      detail::walkSegmentFrom(geometry, from, to, s.resume, std::min(s.t_out, 1.0), local);
     }
   }
-  for (const Stretch& s : stretches_) {
-    if (s.resume == last) return;  // the walk ended before this stretch
-    detail::walkSegmentFrom(geometry, from, to, s.resume, std::min(s.t_out, 1.0), walker);
-  }
+  walker = std::move(local);
 }
 
 }  // namespace ndtom

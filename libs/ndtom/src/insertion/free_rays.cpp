@@ -4,7 +4,6 @@
 
 #include "ndtom/owned_ray_walk.h"
 #include "ndtom/ray_dda.h"
-#include "owned_counting.h"
 
 namespace ndtom {
 
@@ -79,7 +78,7 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
       }
     };
     if (scan.owned) {  // a process of a distributed build: its tiles' stretches of the rays
-      OwnedCountingWalker count(out.tables[t], *scan.owned);
+      CountingWalker count(out.tables[t]);
       OwnedRayWalk walk;
       forEachTake([&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
@@ -111,6 +110,10 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
     });
     visits[t] = count.visits();
   });
+  // The stretches' walks also count a cell or two of other processes' tiles at their ends.
+  if (scan.owned)
+    for (size_t t = 0; t < threads; ++t)
+      out.tables[t].keepBlocksWhere([&](const CellIndex& b) { return scan.owned->ownsBlock(b); });
   report.rays_cast = rays;
   for (size_t n : visits) report.voxel_visits += n;
 }
