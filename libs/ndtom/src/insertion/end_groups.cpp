@@ -53,13 +53,14 @@ void groupEnds(const ScanContext& scan, const ClassifiedPoints& points,
       g.hit = SortedRayEnds::isHit(key);
       // The cell again from the sorted end (read in a row), not end_cells (a random access).
       g.cell = geometry.cellOf(out.sorted_ends[g.begin]);
-      g.mean = g.mean_end = Eigen::Vector3d::Zero();
+      g.relative_mean = g.mean_end = Eigen::Vector3d::Zero();
       if (!with_means) continue;
       // One ray per group, to the mean of its ends.
       const Eigen::Vector3d centre = geometry.cellCenter(g.cell);
-      for (uint32_t k = g.begin; k < g.begin + g.count; ++k) g.mean += out.sorted_ends[k] - centre;
-      g.mean /= double(g.count);
-      g.mean_end = centre + g.mean;
+      for (uint32_t k = g.begin; k < g.begin + g.count; ++k)
+        g.relative_mean += out.sorted_ends[k] - centre;
+      g.relative_mean /= double(g.count);
+      g.mean_end = centre + g.relative_mean;
     }
   });
 
