@@ -41,11 +41,13 @@ struct EndGroups {
   const CellIndex& blockCell(const HitBlock& h) const { return groups[h.first_group].cell; }
 };
 
-/// Groups the sorted ends into `out`, with each group's mean if `with_means` (the rays of
-/// per-hit-cell mode aim at it); counts the hit cells in `report`.
-void groupEnds(const ScanContext& scan, const ClassifiedPoints& points,
-               const SortedRayEnds& sorted, bool with_means, EndGroups& out,
-               InsertionReport& report);
+/// Whether groupEnds computes each group's mean end: only the per-hit-cell ray mode aims at it.
+enum class GroupMeans : uint8_t { Skip, Compute };
+
+/// Groups the sorted ends into `out`, with each group's mean if `means` is Compute; counts
+/// the hit cells in `report`.
+void groupEnds(const ScanContext& scan, const ClassifiedPoints& points, const SortedRayEnds& sorted,
+               GroupMeans means, EndGroups& out, InsertionReport& report);
 
 /// Two-pass statistics (Eq. 1) of a group's points, relative to its cell's centre.
 inline CellStats groupStats(const EndGroups& groups, const EndGroup& g,
