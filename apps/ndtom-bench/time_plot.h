@@ -1,5 +1,6 @@
 // The paper's Fig. 5 for our systems: median time per scan (bar up to p95) against the
-// resolution, log-log, one line per system, drawn with OpenCV into a PNG.
+// resolution, log-log, one line per system, drawn with the programs' line plot
+// (ndtom_apps/line_plot.h).
 #pragma once
 
 #include <string>

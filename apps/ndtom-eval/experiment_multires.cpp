@@ -29,7 +29,8 @@ StatsDifference compareWithBatch(const NdtMap& derived, const CellStatsMap& batc
       continue;
     }
     const CellStats& got = *cell->stats;
-    d.max_mean_diff = std::max(d.max_mean_diff, (got.mean - expected.mean).norm());
+    d.max_mean_diff =
+        std::max(d.max_mean_diff, (got.relative_mean - expected.relative_mean).norm());
     if (!expected.hasGaussian()) continue;
     const double scale = std::max(expected.covariance().norm(), 1e-300);
     d.max_relative_covariance_diff = std::max(

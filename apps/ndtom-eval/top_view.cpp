@@ -7,7 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
-#include "ndtom_apps/xy_ellipse.h"
+#include "ndtom_apps/top_canvas.h"
 
 namespace ndtom::eval {
 
@@ -38,49 +38,35 @@ TopView::TopView(const std::vector<Eigen::Vector3d>& extent, double margin, int 
   lo.array() -= margin;
   hi.array() += margin;
   metres_per_pixel_ = std::max(hi.x() - lo.x(), hi.y() - lo.y()) / max_pixels;
-  x_min_ = lo.x();
-  y_max_ = hi.y();
+  frame_.x_min = lo.x();
+  frame_.y_max = hi.y();
+  frame_.pixels_per_metre = 1 / metres_per_pixel_;
   const int cols = int(std::ceil((hi.x() - lo.x()) / metres_per_pixel_));
   const int rows = int(std::ceil((hi.y() - lo.y()) / metres_per_pixel_));
   image_ = cv::Mat(rows, cols, CV_8UC3, cv::Scalar::all(255));
 }
 
-cv::Point2d TopView::toPixel(double x, double y) const {
-  return {(x - x_min_) / metres_per_pixel_, (y_max_ - y) / metres_per_pixel_};
-}
-
-void TopView::drawEllipse(const Gaussian& g, const cv::Scalar& color) {
-  const apps::XyEllipse e = apps::xyEllipse(g.covariance);
-  const cv::Size axes(std::max(1, int(std::lround(e.sigma_major / metres_per_pixel_))),
-                      std::max(1, int(std::lround(e.sigma_minor / metres_per_pixel_))));
-  cv::ellipse(image_, cv::Point(toPixel(g.mean.x(), g.mean.y())), axes, e.image_angle, 0, 360,
-              color, cv::FILLED, cv::LINE_AA);
-}
-
 void TopView::drawGaussians(const std::vector<Gaussian>& gaussians, const cv::Scalar& color) {
-  for (const Gaussian& g : gaussians) drawEllipse(g, color);
+  for (const Gaussian& g : gaussians)
+    apps::fillXyEllipse(image_, frame_, g.mean, g.covariance, color);
 }
 
 void TopView::drawGaussiansByHeight(std::vector<Gaussian> gaussians, double z_min, double z_max) {
-  std::sort(gaussians.begin(), gaussians.end(),
-            [](const Gaussian& a, const Gaussian& b) { return a.mean.z() < b.mean.z(); });
-  for (const Gaussian& g : gaussians)
-    drawEllipse(g, viridis((g.mean.z() - z_min) / (z_max - z_min)));
+  apps::fillXyEllipsesByHeight(image_, frame_, std::move(gaussians),
+                               [&](double z) { return viridis((z - z_min) / (z_max - z_min)); });
 }
 
 void TopView::drawCells(const std::vector<CellIndex>& cells, double resolution,
                         const cv::Scalar& color) {
-  for (const CellIndex& c : cells) {
-    const cv::Point2d a = toPixel(c.x * resolution, (c.y + 1) * resolution);
-    const cv::Point2d b = toPixel((c.x + 1) * resolution, c.y * resolution);
-    cv::rectangle(image_, cv::Point(a), cv::Point(b), color, cv::FILLED);
-  }
+  for (const CellIndex& c : cells)
+    cv::rectangle(image_,
+                  frame_.squarePixels((c.x + 0.5) * resolution, (c.y + 0.5) * resolution,
+                                      resolution, image_.size()),
+                  color, cv::FILLED);
 }
 
 void TopView::drawPath(const std::vector<Eigen::Vector3d>& path, const cv::Scalar& color) {
-  std::vector<cv::Point> pixels;
-  for (const Eigen::Vector3d& p : path) pixels.emplace_back(toPixel(p.x(), p.y()));
-  cv::polylines(image_, pixels, false, color, 3, cv::LINE_AA);
+  cv::polylines(image_, frame_.toPixels(path), false, color, 3, cv::LINE_AA);
 }
 
 void TopView::drawLegend(const std::vector<std::pair<std::string, cv::Scalar>>& entries) {
@@ -90,18 +76,7 @@ void TopView::drawLegend(const std::vector<std::pair<std::string, cv::Scalar>>& 
     cv::putText(image_, text, {36, y + 2}, kFont, 0.6, kText, 1, cv::LINE_AA);
     y += 26;
   }
-  // Scale bar of a round length close to a sixth of the width.
-  const double width_m = image_.cols * metres_per_pixel_;
-  double bar = std::pow(10.0, std::floor(std::log10(width_m / 6)));
-  if (bar * 5 <= width_m / 6)
-    bar *= 5;
-  else if (bar * 2 <= width_m / 6)
-    bar *= 2;
-  const int length = int(std::lround(bar / metres_per_pixel_)), by = image_.rows - 20;
-  cv::line(image_, {20, by}, {20 + length, by}, kText, 3);
-  char label[32];
-  std::snprintf(label, sizeof(label), "%g m", bar);
-  cv::putText(image_, label, {28 + length, by + 5}, kFont, 0.6, kText, 1, cv::LINE_AA);
+  apps::drawScaleBar(image_, frame_.pixels_per_metre);
 }
 
 void TopView::drawHeightBar(double z_min, double z_max) {

@@ -1,5 +1,6 @@
-// Top views (looking down the z axis) of maps, drawn with OpenCV: Gaussians as their 1-σ
-// ellipses in the xy plane, cells as filled squares, the sensor path as a line.
+// Top views (looking down the z axis) of maps, drawn on the programs' top canvas
+// (ndtom_apps/top_canvas.h): Gaussians as their 1-σ ellipses in the xy plane, cells as
+// filled squares, the sensor path as a line.
 #pragma once
 
 #include <Eigen/Core>
@@ -10,6 +11,7 @@
 
 #include "ndtom/cell_index.h"
 #include "ndtom/gaussian.h"
+#include "ndtom_apps/top_canvas.h"
 
 namespace ndtom::eval {
 
@@ -37,10 +39,8 @@ class TopView {
   void write(const std::string& path) const;
 
  private:
-  cv::Point2d toPixel(double x, double y) const;
-  void drawEllipse(const Gaussian& g, const cv::Scalar& color);
-
-  double x_min_, y_max_, metres_per_pixel_;
+  apps::TopFrame frame_;
+  double metres_per_pixel_;
   cv::Mat image_;
 };
 

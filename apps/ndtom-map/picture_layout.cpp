@@ -1,10 +1,11 @@
 #include "picture_layout.h"
 
 #include <cmath>
-#include <cstdio>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <vector>
+
+#include "ndtom_apps/round_step.h"
 
 namespace ndtom::mapper {
 namespace {
@@ -13,23 +14,6 @@ const cv::Scalar kInk(40, 40, 40);
 constexpr double kTitleScale = 0.65, kLegendScale = 0.48;
 constexpr int kTitleLine = 24, kLegendLine = 20;  // px between baselines
 const cv::Scalar kPaper(255, 255, 255);
-
-std::string metres(double value, double step) {
-  char text[32];
-  const int decimals = step >= 1 ? 0 : (step >= 0.1 ? 1 : 2);
-  if (std::abs(value) < 1e-3 * step) value = 0;  // no "-0"
-  std::snprintf(text, sizeof text, "%.*f", decimals, value);
-  return text;
-}
-
-// A step of 1, 2 or 5 times a power of ten that splits `span` into about `parts`.
-double roundStep(double span, int parts) {
-  const double raw = span / parts;
-  const double power = std::pow(10.0, std::floor(std::log10(raw)));
-  for (const double m : {1.0, 2.0, 5.0})
-    if (m * power >= raw) return m * power;
-  return 10 * power;
-}
 
 void drawColorBar(cv::Mat& canvas, const cv::Rect& area, const HeightScale& scale) {
   const int bar_w = 22, top = area.y + 34;
@@ -43,11 +27,11 @@ void drawColorBar(cv::Mat& canvas, const cv::Rect& area, const HeightScale& scal
     cv::line(canvas, {left, top + row}, {left + bar_w - 1, top + row}, scale.bgr(z));
   }
   cv::rectangle(canvas, {left, top, bar_w, bar_h}, kInk, 1);
-  const double step = roundStep(scale.z_max - scale.z_min, 6);
+  const double step = apps::roundStep(scale.z_max - scale.z_min, 6);
   for (double z = std::ceil(scale.z_min / step) * step; z <= scale.z_max + 1e-9; z += step) {
     const int y = top + int(std::lround((1.0 - scale.fraction(z)) * (bar_h - 1)));
     cv::line(canvas, {left + bar_w, y}, {left + bar_w + 5, y}, kInk, 1);
-    drawText(canvas, metres(z, step), {left + bar_w + 8, y + 5}, 0.45, kInk);
+    drawText(canvas, apps::stepLabel(z, step), {left + bar_w + 8, y + 5}, 0.45, kInk);
   }
 }
 
@@ -96,21 +80,6 @@ cv::Mat composePicture(const cv::Mat& view, const std::string& title, const std:
     drawText(canvas, line, {12, y += kLegendLine}, kLegendScale, kInk);
   drawColorBar(canvas, {view.cols, caption, kLegendWidth, view.rows}, scale);
   return canvas;
-}
-
-void drawScaleBar(cv::Mat& view, double pixels_per_metre) {
-  if (!(pixels_per_metre > 0)) return;
-  const double length = roundStep(0.2 * view.cols / pixels_per_metre, 1);
-  const int bar = int(std::lround(length * pixels_per_metre));
-  const cv::Point start(20, view.rows - 20);
-  if (bar < 10 || bar > view.cols - 40) return;
-  cv::Mat box = view(cv::Rect(10, view.rows - 50, bar + 20, 42));
-  const cv::Mat paper(box.size(), box.type(), kPaper);
-  cv::addWeighted(box, 0.35, paper, 0.65, 0.0, box);  // readable on any map
-  cv::line(view, start, start + cv::Point(bar, 0), kInk, 3);
-  cv::line(view, start + cv::Point(0, -6), start + cv::Point(0, 6), kInk, 2);
-  cv::line(view, start + cv::Point(bar, -6), start + cv::Point(bar, 6), kInk, 2);
-  drawText(view, metres(length, length) + " m", start + cv::Point(0, -12), 0.5, kInk);
 }
 
 }  // namespace ndtom::mapper

@@ -1,5 +1,5 @@
-// The frame around a map view: a caption on top, a height colour bar on the right, and a
-// scale bar for views drawn to scale.
+// The frame around a map view: a caption on top, a height colour bar on the right (the scale
+// bar of views drawn to scale is ndtom_apps/top_canvas.h's).
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -20,9 +20,6 @@ inline int viewWidth(int picture_width) {
 /// `scale` beside it. The picture is view.cols + kLegendWidth wide.
 cv::Mat composePicture(const cv::Mat& view, const std::string& title, const std::string& legend,
                        const HeightScale& scale);
-
-/// A bar of a round length (1, 2 or 5 times a power of ten metres) in the lower left corner.
-void drawScaleBar(cv::Mat& view, double pixels_per_metre);
 
 /// Text drawn the same way everywhere (anti-aliased Hershey simplex); `scale` 1 is ~22 px.
 void drawText(cv::Mat& image, const std::string& text, cv::Point origin, double scale,

@@ -7,7 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "ndtom/map_queries.h"
-#include "ndtom_apps/xy_ellipse.h"
+#include "ndtom_apps/top_canvas.h"
 #include "picture_layout.h"
 
 namespace ndtom::mapper {
@@ -16,15 +16,9 @@ namespace {
 const cv::Scalar kUnknown(222, 222, 222), kFree(255, 255, 255), kThinOccupied(185, 185, 185);
 constexpr double kTileTint = 0.45;  // occupied columns: this much of the height colour on white
 constexpr int kMargin = 16;         // px around the map
-constexpr int kSubpixelBits = 4;
 
-// Metres to pixels: x to the right, y up.
-struct Frame {
-  double x_min = 0, y_max = 0, pixels_per_metre = 1;
-  int width = 0, height = 0;
-  cv::Point2d toPixel(double x, double y) const {
-    return {kMargin + (x - x_min) * pixels_per_metre, kMargin + (y_max - y) * pixels_per_metre};
-  }
+struct Frame : apps::TopFrame {
+  int width = 0, height = 0;  ///< of the view (px)
 };
 
 double quantile(std::vector<double>& v, double q) {
@@ -55,6 +49,7 @@ Frame frameFor(const ndtom::NdtMap& map, const std::vector<Eigen::Vector3d>& pat
   const double r = map.options().resolution;
   const double pad_x = 0.04 * (x_max - x_min) + r, pad_y = 0.04 * (y_max - y_min) + r;
   Frame f;
+  f.margin = kMargin;
   f.x_min = x_min - pad_x;
   f.y_max = y_max + pad_y;
   const double dx = x_max - x_min + 2 * pad_x, dy = y_max - y_min + 2 * pad_y;
@@ -64,19 +59,6 @@ Frame frameFor(const ndtom::NdtMap& map, const std::vector<Eigen::Vector3d>& pat
   f.width = std::max(int(std::ceil(dx * f.pixels_per_metre)) + 2 * kMargin, 360);
   f.height = std::max(int(std::ceil(dy * f.pixels_per_metre)) + 2 * kMargin, 360);
   return f;
-}
-
-// The pixels of a cell's column, clipped to the view; at least one pixel.
-cv::Rect columnPixels(const ndtom::NdtMap& map, const ndtom::CellIndex& index, const Frame& f,
-                      const cv::Size& size) {
-  const double half = map.options().resolution / 2;
-  const Eigen::Vector3d p = map.geometry().cellCenter(index);
-  const cv::Point2d a = f.toPixel(p.x() - half, p.y() + half);
-  const cv::Point2d b = f.toPixel(p.x() + half, p.y() - half);
-  const int x0 = int(std::floor(a.x)), y0 = int(std::floor(a.y));
-  const int x1 = std::max(x0 + 1, int(std::floor(b.x))),
-            y1 = std::max(y0 + 1, int(std::floor(b.y)));
-  return cv::Rect(x0, y0, x1 - x0, y1 - y0) & cv::Rect(0, 0, size.width, size.height);
 }
 
 // The ground under the ellipses, column by column: a pale tint of the height colour of the
@@ -92,7 +74,8 @@ void drawColumns(const ndtom::NdtMap& map, const Frame& f, const HeightScale& sc
     const uint8_t s = cell_state == ndtom::CellState::Free ? 1 : 2;
     const float z = ndtom::isOccupiedGaussian(map, c) ? float(map.gaussianOf(c).mean.z())
                                                       : -std::numeric_limits<float>::infinity();
-    const cv::Rect r = columnPixels(map, c.index, f, view.size());
+    const Eigen::Vector3d p = map.geometry().cellCenter(c.index);
+    const cv::Rect r = f.squarePixels(p.x(), p.y(), map.options().resolution, view.size());
     for (int y = r.y; y < r.y + r.height; ++y)
       for (int x = r.x; x < r.x + r.width; ++x) {
         state.at<uint8_t>(y, x) = std::max(state.at<uint8_t>(y, x), s);
@@ -116,35 +99,15 @@ size_t drawGaussians(const ndtom::NdtMap& map, const Frame& f, const HeightScale
   map.forEachCell([&](const ndtom::CellView& c) {
     if (ndtom::isOccupiedGaussian(map, c)) gaussians.push_back(map.gaussianOf(c));
   });
-  std::sort(gaussians.begin(), gaussians.end(),
-            [](const auto& a, const auto& b) { return a.mean.z() < b.mean.z(); });
-  const double unit = 1 << kSubpixelBits;
-  for (const auto& g : gaussians) {
-    const apps::XyEllipse e = apps::xyEllipse(g.covariance);
-    const double major = std::max(e.sigma_major * f.pixels_per_metre, 0.7),
-                 minor = std::max(e.sigma_minor * f.pixels_per_metre, 0.7);
-    const cv::Point2d c = f.toPixel(g.mean.x(), g.mean.y());
-    cv::ellipse(view, cv::Point(int(c.x * unit), int(c.y * unit)),
-                cv::Size(int(major * unit), int(minor * unit)), e.image_angle, 0, 360,
-                scale.bgr(g.mean.z()), cv::FILLED, cv::LINE_AA, kSubpixelBits);
-  }
+  apps::fillXyEllipsesByHeight(view, f, gaussians, [&](double z) { return scale.bgr(z); });
   return gaussians.size();
-}
-
-std::vector<cv::Point> pixelsOf(const std::vector<Eigen::Vector3d>& path, const Frame& f) {
-  std::vector<cv::Point> pixels;
-  for (const auto& p : path) {
-    const cv::Point2d q = f.toPixel(p.x(), p.y());
-    pixels.emplace_back(int(std::lround(q.x)), int(std::lround(q.y)));
-  }
-  return pixels;
 }
 
 // The path, each segment in the colour of its end (black if none given), its start as `o`.
 void drawPath(const std::vector<Eigen::Vector3d>& path, const std::vector<cv::Scalar>& colours,
               const Frame& f, cv::Mat& view) {
   if (path.empty()) return;
-  const std::vector<cv::Point> pixels = pixelsOf(path, f);
+  const std::vector<cv::Point> pixels = f.toPixels(path);
   const cv::Scalar black(0, 0, 0);
   if (colours.empty()) {
     cv::polylines(view, pixels, false, black, 2, cv::LINE_AA);
@@ -176,10 +139,10 @@ cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale, const 
   drawColumns(map, f, scale, view);
   const size_t drawn = drawGaussians(map, f, scale, view);
   if (!path.reference.empty())
-    cv::polylines(view, pixelsOf(path.reference, f), false, cv::Scalar(110, 110, 110), 1,
+    cv::polylines(view, f.toPixels(path.reference), false, cv::Scalar(110, 110, 110), 1,
                   cv::LINE_AA);
   drawPath(path.points, path.colours, f, view);
-  drawScaleBar(view, f.pixels_per_metre);
+  apps::drawScaleBar(view, f.pixels_per_metre);
   char title[160];
   std::snprintf(title, sizeof title, "NDT-OM, top view: %zu occupied Gaussians, %g m cells", drawn,
                 map.options().resolution);

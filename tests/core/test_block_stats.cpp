@@ -84,7 +84,7 @@ void expectSameCells(const NdtMap& map, const Reference& ref) {
     }
     ASSERT_NE(cell->stats, nullptr) << index.x << "," << index.y << "," << index.z;
     ASSERT_EQ(cell->stats->n, expected.stats.n);
-    ASSERT_LT((cell->stats->mean - expected.stats.mean).norm(), 1e-12);
+    ASSERT_LT((cell->stats->relative_mean - expected.stats.relative_mean).norm(), 1e-12);
     ASSERT_LT((cell->stats->scatter - expected.stats.scatter).norm(),
               1e-12 * (1 + expected.stats.scatter.norm()));
   }

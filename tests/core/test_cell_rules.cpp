@@ -68,7 +68,7 @@ TEST(CellRules, HandWrittenVersion1FileLoadsAndReencodesToTheSameCells) {
   ASSERT_TRUE(far && near && near->stats);
   EXPECT_EQ(far->logodds, -0.5f);
   EXPECT_EQ(near->stats->n, s.n);
-  EXPECT_EQ(std::memcmp(near->stats->mean.data(), s.mean.data(), 3 * 8), 0);
+  EXPECT_EQ(std::memcmp(near->stats->relative_mean.data(), s.relative_mean.data(), 3 * 8), 0);
   EXPECT_EQ(std::memcmp(near->stats->scatter.data(), s.scatter.data(), 9 * 8), 0);
   // Saved again in the current format, which loads back to the same bytes.
   const auto again = ndtom::encodeMap(map);
@@ -104,10 +104,10 @@ TEST(CellRules, LoaderRefusesWhatNoMapCanHold) {
   EXPECT_NE(loadError(oneCell({0, 0, 0}, 1.f, bad)).find("not positive semi-definite"),
             std::string::npos);
   bad = good;
-  bad.mean.x() = std::nextafter(half, 1.0);  // one ulp outside the closed cell
+  bad.relative_mean.x() = std::nextafter(half, 1.0);  // one ulp outside the closed cell
   EXPECT_NE(loadError(oneCell({0, 0, 0}, 1.f, bad)).find("mean outside its cell"),
             std::string::npos);
-  bad.mean.x() = half;  // on its face: inside
+  bad.relative_mean.x() = half;  // on its face: inside
   EXPECT_EQ(loadError(oneCell({0, 0, 0}, 1.f, bad)), "loaded");
   bad = good;
   bad.n = 1;
@@ -136,7 +136,7 @@ TEST(CellRules, SetCellAppliesTheSameRule) {
   CellStats one = good;
   one.n = 1;
   CellStats outside = good;
-  outside.mean.y() = -0.100001;
+  outside.relative_mean.y() = -0.100001;
   for (const auto& [c, l, s] : std::vector<std::tuple<CellIndex, float, CellStats>>{
            {{1, 1, 1}, std::nanf(""), {}},
            {{1, 1, 1}, std::numeric_limits<float>::infinity(), {}},

@@ -62,7 +62,7 @@ void expectEqualsBatch(const NdtMap& map, const ndtom::CellStatsMap& batch) {
     const auto it = batch.find(c.index);
     ASSERT_NE(it, batch.end());
     EXPECT_EQ(c.stats->n, it->second.n);
-    EXPECT_LT((c.stats->mean - it->second.mean).norm(), 1e-12);
+    EXPECT_LT((c.stats->relative_mean - it->second.relative_mean).norm(), 1e-12);
     EXPECT_LT((c.stats->scatter - it->second.scatter).norm(),
               1e-9 * it->second.scatter.norm() + 1e-15);
   });
@@ -178,6 +178,6 @@ TEST(Merge, MergingWithItselfDoublesTheEvidence) {
     const auto d = doubled.cell(c.index);
     ASSERT_TRUE(d && d->stats);
     EXPECT_EQ(d->stats->n, 2 * c.stats->n);
-    EXPECT_LT((d->stats->mean - c.stats->mean).norm(), 1e-15);
+    EXPECT_LT((d->stats->relative_mean - c.stats->relative_mean).norm(), 1e-15);
   });
 }

@@ -145,7 +145,7 @@ TEST(MapCodec, EdgeCellsRoundTrip) {
   NdtMap map;
   CellStats one;
   one.n = 1;
-  one.mean = {0.05, -0.0, 0.1};
+  one.relative_mean = {0.05, -0.0, 0.1};
   one.scatter(1, 1) = -0.0;  // a zero by value, not by bits
   CellStats repeated =
       CellStats::fromPoints({{0.01, 0.01, 0.01}, {0.01, 0.01, 0.01}, {0.01, 0.01, 0.01}});
@@ -290,9 +290,8 @@ TEST(MapCodec, Version1FilesStillLoadBitForBit) {
     }
     if (c.n == 0) continue;
     const auto& s = v->stats->scatter;
-    const double got[9] = {v->stats->mean[0], v->stats->mean[1], v->stats->mean[2],
-                           s(0, 0),           s(0, 1),           s(0, 2),
-                           s(1, 1),           s(1, 2),           s(2, 2)};
+    const auto& m = v->stats->relative_mean;
+    const double got[9] = {m[0], m[1], m[2], s(0, 0), s(0, 1), s(0, 2), s(1, 1), s(1, 2), s(2, 2)};
     differ += !sameBits(got, c.values, sizeof(got));
   }
   EXPECT_EQ(differ, 0u);

@@ -62,7 +62,7 @@ void expectIdentical(const NdtMap& a, const NdtMap& b) {
     ASSERT_EQ(ca.stats == nullptr, cb->stats == nullptr);
     if (!ca.stats) return;
     EXPECT_EQ(ca.stats->n, cb->stats->n);
-    EXPECT_EQ(ca.stats->mean, cb->stats->mean);
+    EXPECT_EQ(ca.stats->relative_mean, cb->stats->relative_mean);
     EXPECT_EQ(ca.stats->scatter, cb->stats->scatter);
   });
 }

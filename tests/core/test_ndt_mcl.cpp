@@ -107,7 +107,7 @@ TEST(NdtMcl, ScanGaussiansAreTheBatchNdtOfTheirCellsSampledByNormal) {
     ASSERT_NE(it, batch.end());
     kept[cell] = true;
     EXPECT_EQ(g.n, it->second.n);
-    const Vector3d mean = it->second.mean + geometry.cellCenter(cell);
+    const Vector3d mean = it->second.relative_mean + geometry.cellCenter(cell);
     EXPECT_LT((g.mean - mean).norm(), 1e-9);
     const Eigen::Matrix3d expected =
         ndtom::regularizedCovariance(it->second.covariance(), ndtom::Regularization{});

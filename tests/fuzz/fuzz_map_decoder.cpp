@@ -173,9 +173,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     check((view->stats ? view->stats->n : 0) == cell.n);
     if (cell.n == 0) continue;
     const auto& s = *view->stats;
-    const double values[9] = {s.mean[0],       s.mean[1],       s.mean[2],
-                              s.scatter(0, 0), s.scatter(0, 1), s.scatter(0, 2),
-                              s.scatter(1, 1), s.scatter(1, 2), s.scatter(2, 2)};
+    const double values[9] = {s.relative_mean[0], s.relative_mean[1], s.relative_mean[2],
+                              s.scatter(0, 0),    s.scatter(0, 1),    s.scatter(0, 2),
+                              s.scatter(1, 1),    s.scatter(1, 2),    s.scatter(2, 2)};
     for (int k = 0; k < 9; ++k) check(sameBits(values[k], cell.values[k]));
   }
   // And the map's own bytes load back to the same bytes.

@@ -75,7 +75,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       check(c.logodds <= float(options.occupancy.logodds_max));
       if (options.occupancy.enabled) check((c.stats != nullptr) == (c.logodds > 0));
       if (c.stats)
-        check(c.stats->n > 0 && c.stats->mean.allFinite() && c.stats->scatter.allFinite());
+        check(c.stats->n > 0 && c.stats->relative_mean.allFinite() && c.stats->scatter.allFinite());
     });
   }
   const auto bytes = ndtom::encodeMap(map);

@@ -214,8 +214,9 @@ TEST(InsertReal, ScanOverTheMemoryBudgetIsRefusedAndTheMapKept) {
       p = reinterpret_cast<const uint8_t*>(&c.logodds);
       bytes.insert(bytes.end(), p, p + sizeof(c.logodds));
       if (!c.stats) return;
-      for (const double v : {c.stats->mean.x(), c.stats->mean.y(), c.stats->mean.z(),
-                             double(c.stats->n), c.stats->scatter.sum()}) {
+      for (const double v :
+           {c.stats->relative_mean.x(), c.stats->relative_mean.y(), c.stats->relative_mean.z(),
+            double(c.stats->n), c.stats->scatter.sum()}) {
         p = reinterpret_cast<const uint8_t*>(&v);
         bytes.insert(bytes.end(), p, p + sizeof(v));
       }

@@ -129,7 +129,7 @@ TEST(MapApi, MatchingRatioAgainstAnotherNdtMap) {
   mrpt::maps::CSimplePointsMap means;
   b.ndtMap().forEachCell([&](const ndtom::CellView& c) {
     if (!c.stats || c.stats->n == 0 || c.logodds <= 0.f) return;
-    const Eigen::Vector3d m = b.ndtMap().geometry().cellCenter(c.index) + c.stats->mean;
+    const Eigen::Vector3d m = b.ndtMap().geometry().cellCenter(c.index) + c.stats->relative_mean;
     means.insertPoint(float(m.x()), float(m.y()), float(m.z()));
   });
   ASSERT_GT(means.size(), 200u);

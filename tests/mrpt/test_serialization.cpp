@@ -57,7 +57,7 @@ void expectSameMaps(const CNDTOccupancyMap& a, const CNDTOccupancyMap& b) {
     ASSERT_EQ(other->stats == nullptr, c.stats == nullptr);
     if (!c.stats) return;
     EXPECT_EQ(other->stats->n, c.stats->n);
-    EXPECT_EQ(other->stats->mean, c.stats->mean);
+    EXPECT_EQ(other->stats->relative_mean, c.stats->relative_mean);
     EXPECT_EQ(other->stats->scatter, c.stats->scatter);
   });
   EXPECT_TRUE(a.insertionOptions == b.insertionOptions);

@@ -301,7 +301,7 @@ std::vector<Case> silentValueCases(const Context& c) {
   for (const double m :
        {half * (1 + 5e-10), std::nextafter(half, 1.0), 0.6 * o.resolution, 10 * o.resolution}) {
     s = threePoints();
-    s.mean.x() = m;
+    s.relative_mean.x() = m;
     std::ostringstream name;
     name.precision(17);
     name << "mean " << m << " from the centre of a " << o.resolution << " m cell";

@@ -95,7 +95,7 @@ int run(int argc, char** argv) {
     ndtom::NdtMap map;
     ndtom::CellStats stats;
     stats.n = uint32_t(std::atoi(argv[6]));
-    stats.mean = Eigen::Vector3d::Constant(std::atof(argv[7]));
+    stats.relative_mean = Eigen::Vector3d::Constant(std::atof(argv[7]));
     if (stats.n > 1) stats.scatter = Eigen::Matrix3d::Identity() * 1e-4;
     map.setCell(
         {int32_t(std::atol(argv[2])), int32_t(std::atol(argv[3])), int32_t(std::atol(argv[4]))},

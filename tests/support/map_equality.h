@@ -32,9 +32,10 @@ inline void expectBitIdentical(const NdtMap& a, const NdtMap& b) {
       ++differ;
       return;
     }
-    if (ca.stats && (ca.stats->n != cb->stats->n ||
-                     !sameBits(ca.stats->mean.data(), cb->stats->mean.data(), 3 * 8) ||
-                     !sameBits(ca.stats->scatter.data(), cb->stats->scatter.data(), 9 * 8)))
+    if (ca.stats &&
+        (ca.stats->n != cb->stats->n ||
+         !sameBits(ca.stats->relative_mean.data(), cb->stats->relative_mean.data(), 3 * 8) ||
+         !sameBits(ca.stats->scatter.data(), cb->stats->scatter.data(), 9 * 8)))
       ++differ;
   });
   EXPECT_EQ(differ, 0u) << "cells that differ";

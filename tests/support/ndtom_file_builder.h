@@ -51,7 +51,7 @@ class FileBuilder {
     u32(l);
     u32(s.n);
     if (s.n == 0) return;
-    for (int a = 0; a < 3; ++a) f64(s.mean[a]);
+    for (int a = 0; a < 3; ++a) f64(s.relative_mean[a]);
     const auto& m = s.scatter;
     for (const double v : {m(0, 0), m(0, 1), m(0, 2), m(1, 1), m(1, 2), m(2, 2)}) f64(v);
   }

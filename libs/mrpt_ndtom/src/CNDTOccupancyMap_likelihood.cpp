@@ -163,7 +163,7 @@ std::vector<Vector3d> occupiedMeans(const ndtom::NdtMap& map, const mrpt::poses:
   std::vector<Vector3d> means;
   map.forEachCellOrdered([&](const ndtom::CellView& c) {
     if (c.stats && c.stats->n > 0 && ndtom::cellState(map, c) == ndtom::CellState::Occupied)
-      means.push_back(t * (map.geometry().cellCenter(c.index) + c.stats->mean));
+      means.push_back(t * (map.geometry().cellCenter(c.index) + c.stats->relative_mean));
   });
   return means;
 }

@@ -35,9 +35,9 @@ const char* cellProblem(const CellIndex& index, float logodds, const CellStats& 
     return "log-odds outside the clamp bounds";
   if (stats.n == 0) return nullptr;
   if (occ.enabled && logodds <= 0.f) return "statistics in an empty cell";
-  if (!stats.mean.allFinite()) return "non-finite mean";
+  if (!stats.relative_mean.allFinite()) return "non-finite mean";
   const double half = 0.5 * options.resolution;
-  if (!(stats.mean.cwiseAbs().maxCoeff() <= half)) return "mean outside its cell";
+  if (!(stats.relative_mean.cwiseAbs().maxCoeff() <= half)) return "mean outside its cell";
   const Eigen::Matrix3d& s = stats.scatter;
   if (!s.allFinite()) return "non-finite scatter";
   if (s != s.transpose()) return "asymmetric scatter";

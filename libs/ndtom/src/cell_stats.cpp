@@ -24,12 +24,12 @@ void CellStats::merge(const CellStats& other) {
     return;
   }
   const double m = n, k = other.n, total = m + k;
-  const Eigen::Vector3d delta = other.mean - mean;
+  const Eigen::Vector3d delta = other.relative_mean - relative_mean;
   // Eq. 11: S = S_x + S_y + mk/(m+k) (μ_x − μ_y)(μ_x − μ_y)ᵀ
   scatter += other.scatter;
   addWeightedOuterProduct(scatter, delta, m * k / total);
   // Eq. 2, written as an increment so equal means stay bit-exact.
-  mean += (k / total) * delta;
+  relative_mean += (k / total) * delta;
   n = uint32_t(std::min<uint64_t>(uint64_t(n) + other.n, kMaxCellPoints));
 }
 
@@ -39,9 +39,9 @@ CellStats CellStats::fromPoints(const std::vector<Eigen::Vector3d>& relative_poi
   s.n = uint32_t(std::min<uint64_t>(relative_points.size(), kMaxCellPoints));
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const auto& p : relative_points) sum += p;
-  s.mean = sum / double(relative_points.size());
+  s.relative_mean = sum / double(relative_points.size());
   for (const auto& p : relative_points) {
-    addWeightedOuterProduct(s.scatter, p - s.mean, 1.0);
+    addWeightedOuterProduct(s.scatter, p - s.relative_mean, 1.0);
   }
   return s;
 }

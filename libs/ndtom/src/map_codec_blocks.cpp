@@ -129,7 +129,7 @@ void writeStats(ByteWriter& out, const CellStats& s) {
   }
   const bool zero = any == 0;
   out.varint(2 * uint64_t(s.n) + (zero ? 0 : 1));
-  for (int a = 0; a < 3; ++a) out.f64(s.mean[a]);
+  for (int a = 0; a < 3; ++a) out.f64(s.relative_mean[a]);
   if (!zero)
     for (const double v : upper) out.f64(v);
 }
@@ -140,7 +140,7 @@ CellStats readStats(ByteReader& in) {
   if (n == 0 || n > kMaxCellPoints) in.fail("point count " + std::to_string(n) + " out of range");
   CellStats s;
   s.n = uint32_t(n);
-  for (int a = 0; a < 3; ++a) s.mean[a] = in.f64();
+  for (int a = 0; a < 3; ++a) s.relative_mean[a] = in.f64();
   if (head & 1) s.scatter = readScatter(in);
   return s;
 }

@@ -23,7 +23,7 @@ void decodeCellRecords(ByteReader& in, NdtMap& map) {
     CellStats stats;
     stats.n = in.u32();
     if (stats.n > 0) {
-      for (int a = 0; a < 3; ++a) stats.mean[a] = in.f64();
+      for (int a = 0; a < 3; ++a) stats.relative_mean[a] = in.f64();
       stats.scatter = readScatter(in);
     }
     setDecodedCell(in, map, index, logodds, stats, cells);

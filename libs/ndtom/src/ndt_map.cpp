@@ -149,7 +149,7 @@ Gaussian NdtMap::gaussianOf(const CellView& c, Covariance covariance) const {
   Gaussian g;
   g.cell = c.index;
   g.n = c.stats->n;
-  g.mean = geometry_.cellCenter(c.index) + c.stats->mean;
+  g.mean = geometry_.cellCenter(c.index) + c.stats->relative_mean;
   g.covariance = c.stats->covariance();
   if (covariance == Covariance::Regularized)
     g.covariance = regularizedCovariance(g.covariance, options_.regularization);

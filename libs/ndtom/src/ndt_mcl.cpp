@@ -139,7 +139,7 @@ ScanNdt buildScanNdt(const std::vector<Eigen::Vector3d>& points, const ScanNdtOp
   if (cells.size() > options.max_gaussians) cells = normalSpaceSample(cells, options.max_gaussians);
   for (const registration::ScanCell& c : cells)
     scan.gaussians.push_back(mclGaussian(
-        c.stats.mean, regularizedCovariance(c.stats.covariance(), options.regularization),
+        c.stats.relative_mean, regularizedCovariance(c.stats.covariance(), options.regularization),
         c.stats.n));
   return scan;
 }

@@ -28,7 +28,8 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
   try {
     classifyPoints(scan, points, s_.points, report);
     sortRayEnds(scan, s_.points, s_.ray_ends);
-    groupEnds(scan, s_.points, s_.ray_ends, /*with_means=*/ray_per_group, s_.groups, report);
+    groupEnds(scan, s_.points, s_.ray_ends, ray_per_group ? GroupMeans::Compute : GroupMeans::Skip,
+              s_.groups, report);
     if (owned_) dropHitsOutside(*owned_);
     checkBudgetForEnds(report);
     if (occupancy) traceFreeRaysInBudget(scan, report);

@@ -124,13 +124,13 @@ void ErrorRefinementMap::updateHitCell(const CellIndex& index,
   if (cell.has_gaussian) {
     const double epsilon = errorRefinementRate(cell.occ, options_);  // occ before this scan
     for (const Eigen::Vector3d& x : relative)
-      refineGaussian(cell.mean, cell.covariance, x, epsilon);
+      refineGaussian(cell.relative_mean, cell.covariance, x, epsilon);
     report.points_refined += relative.size();
   } else {
     cell.pending.merge(CellStats::fromPoints(relative));
     if (!cell.pending.hasGaussian()) return;  // no Gaussian yet, so no occupancy either
     cell.has_gaussian = true;
-    cell.mean = cell.pending.mean;
+    cell.relative_mean = cell.pending.relative_mean;
     cell.covariance = cell.pending.covariance();
     cell.pending = CellStats{};
     cell.occ = 0.0;
@@ -145,7 +145,7 @@ Gaussian ErrorRefinementMap::toGaussian(const CellIndex& index, const Cell& cell
   Gaussian g;
   g.cell = index;
   g.n = cell.n;
-  g.mean = geometry_.cellCenter(index) + cell.mean;
+  g.mean = geometry_.cellCenter(index) + cell.relative_mean;
   g.covariance = cell.covariance;
   return g;
 }

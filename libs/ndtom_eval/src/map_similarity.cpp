@@ -84,7 +84,7 @@ GaussianSet gaussianSetOf(const CellStatsMap& stats, const GridGeometry& geometr
     Gaussian g;
     g.cell = cell;
     g.n = s.n;
-    g.mean = geometry.cellCenter(cell) + s.mean;
+    g.mean = geometry.cellCenter(cell) + s.relative_mean;
     g.covariance = flooredCovariance(s.covariance(), floor);
     set.emplace(cell, g);
   }

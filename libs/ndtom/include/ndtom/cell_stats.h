@@ -21,7 +21,8 @@ inline constexpr uint32_t kMaxCellPoints = UINT32_MAX;
 
 struct CellStats {
   uint32_t n = 0;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();  ///< relative to the cell's reference point
+  /// The mean relative to the cell's reference point (not the world frame).
+  Eigen::Vector3d relative_mean = Eigen::Vector3d::Zero();
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
 
   bool empty() const { return n == 0; }
@@ -37,7 +38,7 @@ struct CellStats {
   /// Moves the mean into the box [-half, half]³ around the reference point. The mean of points
   /// in a cell lies in its closed box; rounding (of the point's cell far from the origin, of
   /// the sums) can leave it a few ulps outside, and the map keeps it inside.
-  void clampMean(double half) { mean = mean.cwiseMax(-half).cwiseMin(half); }
+  void clampMean(double half) { relative_mean = relative_mean.cwiseMax(-half).cwiseMin(half); }
 
   /// Two-pass batch statistics (Eq. 1) of points already expressed relative to the reference.
   static CellStats fromPoints(const std::vector<Eigen::Vector3d>& relative_points);
@@ -46,7 +47,7 @@ struct CellStats {
   /// (new_ref = old_ref + offset): only the mean changes.
   [[nodiscard]] CellStats shifted(const Eigen::Vector3d& offset) const {
     CellStats s = *this;
-    s.mean -= offset;
+    s.relative_mean -= offset;
     return s;
   }
 };

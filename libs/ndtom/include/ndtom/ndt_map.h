@@ -37,7 +37,9 @@ enum class Covariance : uint8_t { Regularized, Exact };
 struct CellView {
   CellIndex index;
   float logodds = 0;                 ///< occupancy log-odds (Eq. 12), clamped
-  const CellStats* stats = nullptr;  ///< points merged so far (cell-centred mean); null if none
+  /// Points merged so far, null if none; its relative_mean is from the cell centre (a
+  /// Gaussian's mean is in the world frame).
+  const CellStats* stats = nullptr;
 };
 
 class NdtMap {

@@ -4,9 +4,8 @@
 
 namespace ndtom {
 
-void groupEnds(const ScanContext& scan, const ClassifiedPoints& points,
-               const SortedRayEnds& sorted, bool with_means, EndGroups& out,
-               InsertionReport& report) {
+void groupEnds(const ScanContext& scan, const ClassifiedPoints& points, const SortedRayEnds& sorted,
+               GroupMeans means, EndGroups& out, InsertionReport& report) {
   out.groups.clear();
   out.hit_blocks.clear();
   out.has_means = false;
@@ -40,7 +39,7 @@ void groupEnds(const ScanContext& scan, const ClassifiedPoints& points,
   });
   for (size_t t = 0; t < threads; ++t) runs[t + 1] += runs[t];
   out.groups.resize(runs[threads]);
-  out.has_means = with_means;
+  out.has_means = means == GroupMeans::Compute;
   scan.pool.run(threads, [&](size_t t) {
     const GridGeometry& geometry = scan.geometry;
     size_t group = runs[t];
@@ -53,13 +52,14 @@ void groupEnds(const ScanContext& scan, const ClassifiedPoints& points,
       g.hit = SortedRayEnds::isHit(key);
       // The cell again from the sorted end (read in a row), not end_cells (a random access).
       g.cell = geometry.cellOf(out.sorted_ends[g.begin]);
-      g.mean = g.mean_end = Eigen::Vector3d::Zero();
-      if (!with_means) continue;
+      g.relative_mean = g.mean_end = Eigen::Vector3d::Zero();
+      if (!out.has_means) continue;
       // One ray per group, to the mean of its ends.
       const Eigen::Vector3d centre = geometry.cellCenter(g.cell);
-      for (uint32_t k = g.begin; k < g.begin + g.count; ++k) g.mean += out.sorted_ends[k] - centre;
-      g.mean /= double(g.count);
-      g.mean_end = centre + g.mean;
+      for (uint32_t k = g.begin; k < g.begin + g.count; ++k)
+        g.relative_mean += out.sorted_ends[k] - centre;
+      g.relative_mean /= double(g.count);
+      g.mean_end = centre + g.relative_mean;
     }
   });
 

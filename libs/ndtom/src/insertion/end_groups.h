@@ -22,7 +22,7 @@ struct EndGroup {
   uint32_t begin;  ///< its rays' ends are sorted_ends[begin, begin + count)
   uint32_t count;
   bool hit;
-  Eigen::Vector3d mean;      ///< of the ray ends, relative to the cell centre (per-hit-cell mode)
+  Eigen::Vector3d relative_mean;  ///< of the ray ends, from the cell centre (per-hit-cell mode)
   Eigen::Vector3d mean_end;  ///< the same in the world frame: that mode's ray end
 };
 
@@ -36,16 +36,18 @@ struct EndGroups {
   std::vector<Eigen::Vector3d> sorted_ends;  ///< the ray ends in sorted order
   std::vector<EndGroup> groups;              ///< in sorted order: a block's in offset order
   std::vector<HitBlock> hit_blocks;          ///< in the same order
-  bool has_means = false;                    ///< EndGroup::mean and mean_end are set
+  bool has_means = false;                    ///< EndGroup::relative_mean and mean_end are set
 
   const CellIndex& blockCell(const HitBlock& h) const { return groups[h.first_group].cell; }
 };
 
-/// Groups the sorted ends into `out`, with each group's mean if `with_means` (the rays of
-/// per-hit-cell mode aim at it); counts the hit cells in `report`.
-void groupEnds(const ScanContext& scan, const ClassifiedPoints& points,
-               const SortedRayEnds& sorted, bool with_means, EndGroups& out,
-               InsertionReport& report);
+/// Whether groupEnds computes each group's mean end: only the per-hit-cell ray mode aims at it.
+enum class GroupMeans : uint8_t { Skip, Compute };
+
+/// Groups the sorted ends into `out`, with each group's mean if `means` is Compute; counts
+/// the hit cells in `report`.
+void groupEnds(const ScanContext& scan, const ClassifiedPoints& points, const SortedRayEnds& sorted,
+               GroupMeans means, EndGroups& out, InsertionReport& report);
 
 /// Two-pass statistics (Eq. 1) of a group's points, relative to its cell's centre.
 inline CellStats groupStats(const EndGroups& groups, const EndGroup& g,
@@ -56,16 +58,16 @@ inline CellStats groupStats(const EndGroups& groups, const EndGroup& g,
   CellStats stats;
   stats.n = g.count;
   if (groups.has_means) {
-    stats.mean = g.mean;
+    stats.relative_mean = g.relative_mean;
   } else {
-    for (uint32_t i = g.begin; i < end; ++i) stats.mean += ends[i] - centre;
-    stats.mean /= double(g.count);
+    for (uint32_t i = g.begin; i < end; ++i) stats.relative_mean += ends[i] - centre;
+    stats.relative_mean /= double(g.count);
   }
   // Upper triangle in scalars: Eigen's d·dᵀ here goes through the stack and stalls on store
   // forwarding. Same sums in the same order, so the same bits.
   double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
   for (uint32_t i = g.begin; i < end; ++i) {
-    const Eigen::Vector3d d = ends[i] - centre - stats.mean;
+    const Eigen::Vector3d d = ends[i] - centre - stats.relative_mean;
     xx += d.x() * d.x(), xy += d.x() * d.y(), xz += d.x() * d.z();
     yy += d.y() * d.y(), yz += d.y() * d.z(), zz += d.z() * d.z();
   }

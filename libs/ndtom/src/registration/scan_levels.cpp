@@ -25,7 +25,7 @@ std::vector<T> spreadSubset(const std::vector<T>& items, size_t max_items) {
 
 ScanGaussian scanGaussian(const CellStats& stats, const Regularization& regularization) {
   ScanGaussian g;
-  g.mean = stats.mean;
+  g.mean = stats.relative_mean;
   g.covariance = regularizedCovariance(stats.covariance(), regularization);
   g.max_variance = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(g.covariance,
                                                                   Eigen::EigenvaluesOnly)
@@ -100,7 +100,7 @@ std::vector<ScanCell> regroup(const std::vector<ScanCell>& cells, double cell_si
   std::vector<std::pair<CellIndex, uint32_t>> keyed;
   keyed.reserve(cells.size());
   for (uint32_t i = 0; i < cells.size(); ++i)
-    keyed.emplace_back(cellOfPoint(cells[i].stats.mean, cell_size), i);
+    keyed.emplace_back(cellOfPoint(cells[i].stats.relative_mean, cell_size), i);
   sortByCell(keyed);
   std::vector<ScanCell> out;
   for (const auto& [cell, i] : keyed) {
@@ -125,7 +125,7 @@ std::vector<ScanLevel> buildScanLevels(const std::vector<Eigen::Vector3d>& point
     if (p2d) {
       std::vector<Eigen::Vector3d> centroids;
       centroids.reserve(cells.size());
-      for (const ScanCell& c : cells) centroids.push_back(c.stats.mean);
+      for (const ScanCell& c : cells) centroids.push_back(c.stats.relative_mean);
       level.points = spreadSubset(centroids, options.max_points);
     } else {
       for (const ScanCell& c : cells)

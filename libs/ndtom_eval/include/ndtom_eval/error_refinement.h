@@ -87,7 +87,7 @@ class ErrorRefinementMap {
     CellStats pending;  ///< points before the first Gaussian (cell-centred), exact
     bool has_gaussian = false;
     uint32_t n = 0;  ///< points absorbed, including the pending ones
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();  ///< relative to the cell centre
+    Eigen::Vector3d relative_mean = Eigen::Vector3d::Zero();  ///< relative to the cell centre
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
     double occ = 0.0;
   };
