@@ -91,6 +91,29 @@ void OwnedRayWalk::walk(const GridGeometry& geometry, const Eigen::Vector3d& fro
   const CellIndex first = geometry.cellOf(from), last = geometry.cellOf(to);
   if (first == last) return;
   const int32_t edge = owned.tileCells();
+  auto tileOf = [&](int32_t cell) {  // a shift for the usual power-of-two tiles
+    return (edge & (edge - 1)) == 0 ? cell >> __builtin_ctz(uint32_t(edge)) : floorDiv(cell, edge);
+  };
+  CellIndex tile{tileOf(first.x), tileOf(first.y), tileOf(first.z)};
+
+  // Most rays end in the tile they start in: then no crossing time is needed, unless the
+  // ray's end cell lies on the face of the tile it moves towards (where rounding may let the
+  // walk step one cell past it).
+  bool one_tile = true;
+  for (int a = 0; a < 3 && one_tile; ++a) {
+    const int32_t end = last[a], end_tile = tileOf(end), offset = end - end_tile * edge;
+    const double delta = to[a] - from[a];
+    one_tile = end_tile == tile[a] && !(delta > 0 && offset == edge - 1) && !(delta < 0 && offset == 0);
+  }
+  if (one_tile) {
+    if (ownsTile(owned, tile)) {
+      Walker local(std::move(walker));
+      detail::walkSegmentFrom(geometry, from, to, first, 1.0, local);
+      walker = std::move(local);
+    }
+    return;
+  }
+
   const double r = geometry.resolution();
   constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -98,7 +121,6 @@ void OwnedRayWalk::walk(const GridGeometry& geometry, const Eigen::Vector3d& fro
   // indices), the same order (at equal times up-steps first), gathered into stretches of owned
   // tiles. Stretches that touch are joined: each crossing time then belongs to one stretch at
   // most, so no cell is visited twice.
-  CellIndex tile{floorDiv(first.x, edge), floorDiv(first.y, edge), floorDiv(first.z, edge)};
   int32_t step[3], boundary[3];  // the next tile boundary, in tiles
   double inv[3], t_next[3];
   for (int a = 0; a < 3; ++a) {
