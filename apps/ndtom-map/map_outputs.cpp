@@ -40,6 +40,23 @@ class SinkStream : public mrpt::io::CStream {
   uint64_t written_ = 0;
 };
 
+// An MRPT archive straight into the scene's compressor. The archive writes a mesh a float at
+// a time: no stream and no std::function between it and the compressor's buffer.
+class GzipArchive final : public mrpt::serialization::CArchive {
+ public:
+  explicit GzipArchive(GzipMemberWriter& gzip) : gzip_(gzip) {}
+
+ protected:
+  size_t write(const void* data, size_t size) override {
+    gzip_.write(data, size);
+    return size;
+  }
+  size_t read(void*, size_t) override { return 0; }
+
+ private:
+  GzipMemberWriter& gzip_;
+};
+
 void writeMrptMap(const mrpt_ndtom::CNDTOccupancyMap& map, const std::string& file) {
   ndtom::writeFileSynced(file, [&](const ndtom::FileSink& sink) {
     SinkStream stream(sink);
@@ -52,8 +69,9 @@ void writeBytes(const std::string& file, const std::string& bytes) {
   ndtom::writeFileSynced(file, [&](const ndtom::FileSink& sink) { sink(bytes.data(), bytes.size()); });
 }
 
-// What COpenGLScene::saveToFile writes (the scene in an MRPT archive, gzip level 1), but
-// compressed while it is serialised, on `threads` threads: deflate took most of its time.
+// What COpenGLScene::saveToFile writes (the scene in an MRPT archive, gzip), but compressed
+// while it is serialised, on `threads` threads, by libdeflate at its fastest level: deflate
+// took most of its time.
 void writeScene(const mrpt::opengl::CSetOfObjects::Ptr& gaussians,
                 const std::vector<Eigen::Vector3d>& sensor_path, const std::string& file,
                 int threads) {
@@ -68,9 +86,7 @@ void writeScene(const mrpt::opengl::CSetOfObjects::Ptr& gaussians,
   scene.insert(path);
   ndtom::writeFileSynced(file, [&](const ndtom::FileSink& sink) {
     GzipMemberWriter gzip(sink, 1, threads);
-    const ndtom::FileSink into_gzip = [&](const void* data, size_t size) { gzip.write(data, size); };
-    SinkStream stream(into_gzip);
-    mrpt::serialization::archiveFrom(stream) << scene;
+    GzipArchive(gzip) << scene;
     gzip.finish();
   });
 }
