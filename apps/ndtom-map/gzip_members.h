@@ -32,8 +32,13 @@ class GzipMemberWriter {
   /// Inline for the common case: an MRPT archive writes a scene a float at a time.
   void write(const void* data, size_t size) {
     if (size < kPartBytes - fill_) {
-      std::memcpy(part_.get() + fill_, data, size);
+      char* to = part_.get() + fill_;
       fill_ += size;
+      // Copies of a constant size are a load and a store; memcpy of any size is a call.
+      if (size == 4) return std::memcpy(to, data, 4), void();
+      if (size == 1) return std::memcpy(to, data, 1), void();
+      if (size == 8) return std::memcpy(to, data, 8), void();
+      std::memcpy(to, data, size);
       return;
     }
     writeAcrossParts(data, size);

@@ -9,6 +9,7 @@
 
 #include "gzip_members.h"
 #include "height_colors.h"
+#include "mrpt_ndtom/encoded_archive.h"
 #include "ndtom/map_io.h"
 #include "ndtom/tiled_map.h"
 #include "ndtom_apps/run_program.h"
@@ -57,11 +58,13 @@ class GzipArchive final : public mrpt::serialization::CArchive {
   GzipMemberWriter& gzip_;
 };
 
-void writeMrptMap(const mrpt_ndtom::CNDTOccupancyMap& map, const std::string& file) {
+// `encoded`: the map's encoding, written to the .ndtom already (the archive holds the same).
+void writeMrptMap(const mrpt_ndtom::CNDTOccupancyMap& map, const std::vector<uint8_t>& encoded,
+                  const std::string& file) {
   ndtom::writeFileSynced(file, [&](const ndtom::FileSink& sink) {
     SinkStream stream(sink);
     auto archive = mrpt::serialization::archiveFrom(stream);
-    archive << map;
+    mrpt_ndtom::writeWithEncodedMap(archive, map, encoded);
   });
 }
 
@@ -140,8 +143,15 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
 
   std::optional<CoarseMapInfo> coarse_info;
   try {
-    times.time("map", [&] { writeMap(ndt, map_file); });
-    times.time("mrpt_map", [&] { writeMrptMap(map, mrpt_file); });
+    // Encoded once for the .ndtom and the .ndtommap (the same bytes in both).
+    std::vector<uint8_t> encoded;
+    times.time("map", [&] {
+      encoded = ndtom::encodeMap(ndt);
+      ndtom::writeFileSynced(map_file, [&](const ndtom::FileSink& sink) {
+        sink(encoded.data(), encoded.size());
+      });
+    });
+    times.time("mrpt_map", [&] { writeMrptMap(map, encoded, mrpt_file); });
     if (settings.pictures) {
       const HeightScale scale{map.renderOptions.color_min_z, map.renderOptions.color_max_z};
       times.time("top_view", [&] {
