@@ -122,13 +122,23 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
       ndtom::encodeMap(m, [&](const uint8_t* data, size_t size) { sink(data, size); });
     });
   };
-  // The Gaussians selected and coloured once, for the scene and the picture.
+  // The Gaussians selected and coloured once, for the scene and the picture: in the scene's
+  // lane, while this one encodes the map; the 3D picture waits for them.
   std::vector<mrpt_ndtom::DrawnGaussian> drawn;
-  times.time("ellipsoids", [&] { drawn = mrpt_ndtom::drawnGaussians(ndt, map.renderOptions); });
+  std::promise<void> drawn_promise;
+  std::shared_future<void> drawn_ready = drawn_promise.get_future().share();
 
   // The scene's mesh (~100 bytes a triangle) lives only in this lane.
   StageTimes scene_times(times.origin());
   const auto writeSceneLane = [&] {
+    try {
+      scene_times.time("ellipsoids",
+                       [&] { drawn = mrpt_ndtom::drawnGaussians(ndt, map.renderOptions); });
+      drawn_promise.set_value();
+    } catch (...) {
+      drawn_promise.set_exception(std::current_exception());
+      throw;
+    }
     const auto gaussians = mrpt::opengl::CSetOfObjects::Create();
     scene_times.time("scene", [&] {
       mrpt_ndtom::buildNdtVisualization(ndt, drawn, map.renderOptions, *gaussians);
@@ -157,6 +167,7 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
       times.time("top_view", [&] {
         writeBytes(top_file, pngBytes(renderTopView(ndt, scale, sensor_path, settings.image_width)));
       });
+      drawn_ready.get();  // rethrows the scene lane's error in selecting them
       times.time("view_3d", [&] {
         writeBytes(view_file, pngBytes(renderObliqueView(ndt, drawn, map.renderOptions,
                                                          sensor_path, settings.image_width)));
