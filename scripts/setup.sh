@@ -16,7 +16,8 @@ packages=(
   openmpi-bin libopenmpi-dev  # ndtom-map-mpi, the distributed build
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth
-  zlib1g-dev  # ndtom-map compresses its scene itself
+  zlib1g-dev  # the tests read ndtom-map's gzip scene back
+  libdeflate-dev  # ndtom-map compresses its scene itself
   libgl1-mesa-dri  # Mesa's software OpenGL: MRPT's viewers under Xvfb in the tests (no GPU needed)
 )
 for option in "$@"; do

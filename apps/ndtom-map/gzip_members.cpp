@@ -1,6 +1,6 @@
 #include "gzip_members.h"
 
-#include <zlib.h>
+#include <libdeflate.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -8,20 +8,15 @@
 namespace ndtom::mapper {
 namespace {
 
-std::string gzipMember(const std::string& data, int level) {
-  z_stream z{};
-  // windowBits 15 + 16: a gzip header and trailer instead of zlib's.
-  if (deflateInit2(&z, level, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
-    throw std::runtime_error("gzip: cannot start zlib's compressor");
-  std::string out(deflateBound(&z, uLong(data.size())), '\0');
-  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
-  z.avail_in = uInt(data.size());
-  z.next_out = reinterpret_cast<Bytef*>(out.data());
-  z.avail_out = uInt(out.size());
-  const int status = deflate(&z, Z_FINISH);
-  const size_t written = z.total_out;
-  deflateEnd(&z);
-  if (status != Z_STREAM_END) throw std::runtime_error("gzip: zlib's compressor failed");
+// One gzip member (header, deflate stream, CRC-32 and size) of `size` bytes. libdeflate
+// compresses a whole buffer in about half zlib's instructions at the fastest level.
+std::string gzipMember(const char* data, size_t size, int level) {
+  libdeflate_compressor* z = libdeflate_alloc_compressor(level);
+  if (!z) throw std::runtime_error("gzip: cannot start libdeflate's compressor");
+  std::string out(libdeflate_gzip_compress_bound(z, size), '\0');
+  const size_t written = libdeflate_gzip_compress(z, data, size, out.data(), out.size());
+  libdeflate_free_compressor(z);
+  if (written == 0) throw std::runtime_error("gzip: libdeflate's compressor failed");
   out.resize(written);
   return out;
 }
@@ -29,37 +24,41 @@ std::string gzipMember(const std::string& data, int level) {
 }  // namespace
 
 GzipMemberWriter::GzipMemberWriter(const ndtom::FileSink& out, int level, int threads)
-    : out_(out), level_(level), max_in_flight_(size_t(std::max(threads, 1))) {
-  part_.reserve(kPartBytes);
-}
+    : out_(out),
+      level_(level),
+      max_in_flight_(size_t(std::max(threads, 1))),
+      part_(new char[kPartBytes]) {}
 
 GzipMemberWriter::~GzipMemberWriter() {
-  for (auto& f : in_flight_) f.wait();  // they read nothing of ours, but must not outlive us
+  for (auto& f : in_flight_) f.wait();  // they own their parts, but must not outlive us
 }
 
-void GzipMemberWriter::write(const void* data, size_t size) {
+void GzipMemberWriter::writeAcrossParts(const void* data, size_t size) {
   const char* bytes = static_cast<const char*>(data);
   while (size > 0) {
-    const size_t take = std::min(size, kPartBytes - part_.size());
-    part_.append(bytes, take);
+    const size_t take = std::min(size, kPartBytes - fill_);
+    std::memcpy(part_.get() + fill_, bytes, take);
+    fill_ += take;
     bytes += take;
     size -= take;
-    if (part_.size() == kPartBytes) launchPart();
+    if (fill_ == kPartBytes) launchPart();
   }
 }
 
 void GzipMemberWriter::finish() {
-  if (!part_.empty() || !any_part_) launchPart();  // an empty input is one empty member
+  if (fill_ > 0 || !any_part_) launchPart();  // an empty input is one empty member
   while (!in_flight_.empty()) writeOldest();
 }
 
 void GzipMemberWriter::launchPart() {
   if (in_flight_.size() == max_in_flight_) writeOldest();
-  std::string part;
-  part.swap(part_);
-  part_.reserve(kPartBytes);
-  in_flight_.push_back(std::async(max_in_flight_ > 1 ? std::launch::async : std::launch::deferred,
-                                  [p = std::move(part), level = level_] { return gzipMember(p, level); }));
+  std::shared_ptr<char[]> part(part_.release());
+  const size_t size = fill_;
+  part_.reset(new char[kPartBytes]);
+  fill_ = 0;
+  in_flight_.push_back(
+      std::async(max_in_flight_ > 1 ? std::launch::async : std::launch::deferred,
+                 [part, size, level = level_] { return gzipMember(part.get(), size, level); }));
   any_part_ = true;
 }
 

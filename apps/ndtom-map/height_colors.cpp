@@ -22,7 +22,10 @@ cv::Scalar HeightScale::bgr(double z) const {
 HeightScale heightScaleOf(const ndtom::NdtMap& map) {
   std::vector<double> z;
   map.forEachCell([&](const ndtom::CellView& c) {
-    if (ndtom::isOccupiedGaussian(map, c)) z.push_back(map.gaussianOf(c).mean.z());
+    // The mean only: the exact covariance, not the regularised one (an eigendecomposition
+    // per Gaussian), and the same mean.
+    if (ndtom::isOccupiedGaussian(map, c))
+      z.push_back(map.gaussianOf(c, ndtom::Covariance::Exact).mean.z());
   });
   HeightScale scale;
   if (z.empty()) return scale;

@@ -9,6 +9,7 @@
 
 #include "gzip_members.h"
 #include "height_colors.h"
+#include "mrpt_ndtom/encoded_archive.h"
 #include "ndtom/map_io.h"
 #include "ndtom/tiled_map.h"
 #include "ndtom_apps/run_program.h"
@@ -40,11 +41,30 @@ class SinkStream : public mrpt::io::CStream {
   uint64_t written_ = 0;
 };
 
-void writeMrptMap(const mrpt_ndtom::CNDTOccupancyMap& map, const std::string& file) {
+// An MRPT archive straight into the scene's compressor. The archive writes a mesh a float at
+// a time: no stream and no std::function between it and the compressor's buffer.
+class GzipArchive final : public mrpt::serialization::CArchive {
+ public:
+  explicit GzipArchive(GzipMemberWriter& gzip) : gzip_(gzip) {}
+
+ protected:
+  size_t write(const void* data, size_t size) override {
+    gzip_.write(data, size);
+    return size;
+  }
+  size_t read(void*, size_t) override { return 0; }
+
+ private:
+  GzipMemberWriter& gzip_;
+};
+
+// `encoded`: the map's encoding, written to the .ndtom already (the archive holds the same).
+void writeMrptMap(const mrpt_ndtom::CNDTOccupancyMap& map, const std::vector<uint8_t>& encoded,
+                  const std::string& file) {
   ndtom::writeFileSynced(file, [&](const ndtom::FileSink& sink) {
     SinkStream stream(sink);
     auto archive = mrpt::serialization::archiveFrom(stream);
-    archive << map;
+    mrpt_ndtom::writeWithEncodedMap(archive, map, encoded);
   });
 }
 
@@ -52,8 +72,9 @@ void writeBytes(const std::string& file, const std::string& bytes) {
   ndtom::writeFileSynced(file, [&](const ndtom::FileSink& sink) { sink(bytes.data(), bytes.size()); });
 }
 
-// What COpenGLScene::saveToFile writes (the scene in an MRPT archive, gzip level 1), but
-// compressed while it is serialised, on `threads` threads: deflate took most of its time.
+// What COpenGLScene::saveToFile writes (the scene in an MRPT archive, gzip), but compressed
+// while it is serialised, on `threads` threads, by libdeflate at its fastest level: deflate
+// took most of its time.
 void writeScene(const mrpt::opengl::CSetOfObjects::Ptr& gaussians,
                 const std::vector<Eigen::Vector3d>& sensor_path, const std::string& file,
                 int threads) {
@@ -68,9 +89,7 @@ void writeScene(const mrpt::opengl::CSetOfObjects::Ptr& gaussians,
   scene.insert(path);
   ndtom::writeFileSynced(file, [&](const ndtom::FileSink& sink) {
     GzipMemberWriter gzip(sink, 1, threads);
-    const ndtom::FileSink into_gzip = [&](const void* data, size_t size) { gzip.write(data, size); };
-    SinkStream stream(into_gzip);
-    mrpt::serialization::archiveFrom(stream) << scene;
+    GzipArchive(gzip) << scene;
     gzip.finish();
   });
 }
@@ -103,13 +122,23 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
       ndtom::encodeMap(m, [&](const uint8_t* data, size_t size) { sink(data, size); });
     });
   };
-  // The Gaussians selected and coloured once, for the scene and the picture.
+  // The Gaussians selected and coloured once, for the scene and the picture: in the scene's
+  // lane, while this one encodes the map; the 3D picture waits for them.
   std::vector<mrpt_ndtom::DrawnGaussian> drawn;
-  times.time("ellipsoids", [&] { drawn = mrpt_ndtom::drawnGaussians(ndt, map.renderOptions); });
+  std::promise<void> drawn_promise;
+  std::shared_future<void> drawn_ready = drawn_promise.get_future().share();
 
   // The scene's mesh (~100 bytes a triangle) lives only in this lane.
   StageTimes scene_times(times.origin());
   const auto writeSceneLane = [&] {
+    try {
+      scene_times.time("ellipsoids",
+                       [&] { drawn = mrpt_ndtom::drawnGaussians(ndt, map.renderOptions); });
+      drawn_promise.set_value();
+    } catch (...) {
+      drawn_promise.set_exception(std::current_exception());
+      throw;
+    }
     const auto gaussians = mrpt::opengl::CSetOfObjects::Create();
     scene_times.time("scene", [&] {
       mrpt_ndtom::buildNdtVisualization(ndt, drawn, map.renderOptions, *gaussians);
@@ -124,13 +153,21 @@ std::optional<CoarseMapInfo> writeMapOutputs(const mrpt_ndtom::CNDTOccupancyMap&
 
   std::optional<CoarseMapInfo> coarse_info;
   try {
-    times.time("map", [&] { writeMap(ndt, map_file); });
-    times.time("mrpt_map", [&] { writeMrptMap(map, mrpt_file); });
+    // Encoded once for the .ndtom and the .ndtommap (the same bytes in both).
+    std::vector<uint8_t> encoded;
+    times.time("map", [&] {
+      encoded = ndtom::encodeMap(ndt);
+      ndtom::writeFileSynced(map_file, [&](const ndtom::FileSink& sink) {
+        sink(encoded.data(), encoded.size());
+      });
+    });
+    times.time("mrpt_map", [&] { writeMrptMap(map, encoded, mrpt_file); });
     if (settings.pictures) {
       const HeightScale scale{map.renderOptions.color_min_z, map.renderOptions.color_max_z};
       times.time("top_view", [&] {
         writeBytes(top_file, pngBytes(renderTopView(ndt, scale, sensor_path, settings.image_width)));
       });
+      drawn_ready.get();  // rethrows the scene lane's error in selecting them
       times.time("view_3d", [&] {
         writeBytes(view_file, pngBytes(renderObliqueView(ndt, drawn, map.renderOptions,
                                                          sensor_path, settings.image_width)));

@@ -13,6 +13,7 @@
 #include <random>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
+#include "mrpt_ndtom/encoded_archive.h"
 #include "ndtom/map_io.h"
 
 using Eigen::Vector3d;
@@ -506,4 +507,39 @@ TEST(Serialization, OptionsChangedSinceTheLastInsertionApplyToTheWrittenMap) {
     EXPECT_NE(std::string(e.what()).find("resolution cannot change"), std::string::npos)
         << e.what();
   }
+}
+
+// ndtom-map encodes its map once for the .ndtom and the .ndtommap: the archive written with
+// the encoding at hand is the archive `<<` writes, and options changed since the last
+// insertion still apply (the given encoding is then not the archive's).
+TEST(Serialization, ArchiveWithTheEncodingAtHandIsTheSame) {
+  const auto archived = [](const CNDTOccupancyMap& map, const std::vector<uint8_t>* encoded) {
+    mrpt::io::CMemoryStream buffer;
+    auto archive = mrpt::serialization::archiveFrom(buffer);
+    if (encoded)
+      mrpt_ndtom::writeWithEncodedMap(archive, map, *encoded);
+    else
+      archive << map;
+    const auto* data = static_cast<const uint8_t*>(buffer.getRawBufferData());
+    return std::vector<uint8_t>(data, data + buffer.getTotalBytesCount());
+  };
+  const auto map = sampleMap();
+  const std::vector<uint8_t> encoded = ndtom::encodeMap(map->ndtMap());
+  EXPECT_EQ(archived(*map, &encoded), archived(*map, nullptr));
+  // Only that map takes the given bytes, and only within the call.
+  const auto other = sampleMap();
+  other->insertPoints(randomScan(7), Vector3d::Zero());
+  const std::vector<uint8_t> other_encoded = ndtom::encodeMap(other->ndtMap());
+  EXPECT_EQ(archived(*other, &other_encoded), archived(*other, nullptr));
+  EXPECT_NE(archived(*other, nullptr), archived(*map, nullptr));
+
+  map->insertionOptions.occupancy.p_miss = 0.45;  // pending: the map is written under it
+  const auto written = archived(*map, &encoded);
+  EXPECT_EQ(written, archived(*map, nullptr));
+  mrpt::io::CMemoryStream buffer;
+  buffer.assignMemoryNotOwn(written.data(), written.size());
+  const auto copy = std::dynamic_pointer_cast<CNDTOccupancyMap>(
+      mrpt::serialization::archiveFrom(buffer).ReadObject());
+  ASSERT_TRUE(copy);
+  EXPECT_EQ(copy->ndtMap().options().occupancy.p_miss, 0.45);
 }

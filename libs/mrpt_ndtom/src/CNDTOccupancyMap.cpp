@@ -1,5 +1,6 @@
 // CNDTOccupancyMap: registration, construction, options, serialization.
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
+#include "mrpt_ndtom/encoded_archive.h"
 
 #include <mrpt/serialization/CArchive.h>
 
@@ -261,6 +262,15 @@ void CNDTOccupancyMap::internal_clear() {
 // cell); version 1 holds the compact format 2 (presence masks, log-odds runs). The core reads
 // both, so both versions load the same way. Each options block has its own version byte: a
 // new option bumps that (insertion options 1 added threads), not this.
+namespace {
+/// The encoding writeWithEncodedMap hands to serializeTo, for that map only.
+struct EncodedMap {
+  const CNDTOccupancyMap* map = nullptr;
+  const std::vector<uint8_t>* bytes = nullptr;
+};
+thread_local EncodedMap t_encoded_map;
+}  // namespace
+
 uint8_t CNDTOccupancyMap::serializeGetVersion() const {
   return 1;
 }
@@ -278,10 +288,23 @@ void CNDTOccupancyMap::serializeTo(mrpt::serialization::CArchive& out) const {
   const ndtom::NdtMap& map = pending ? *pending : m_map;
   // Encoded once, then sized and written: file format 2 takes a fraction of the map's memory
   // (5.9 B per known cell against ~17 on the lidar map), and sizing it by a second encoding
-  // cost as much as the first.
-  const std::vector<uint8_t> bytes = ndtom::encodeMap(map);
+  // cost as much as the first. writeWithEncodedMap hands the encoding over instead.
+  std::vector<uint8_t> own;
+  const bool given = !pending && t_encoded_map.map == this;
+  if (!given) own = ndtom::encodeMap(map);
+  const std::vector<uint8_t>& bytes = given ? *t_encoded_map.bytes : own;
   out << uint64_t(bytes.size());
   out.WriteBuffer(bytes.data(), bytes.size());
+}
+
+void writeWithEncodedMap(mrpt::serialization::CArchive& out, const CNDTOccupancyMap& map,
+                         const std::vector<uint8_t>& encoded) {
+  // Per thread: another thread serialising any map meanwhile encodes as usual.
+  struct Given {
+    explicit Given(const EncodedMap& e) { t_encoded_map = e; }
+    ~Given() { t_encoded_map = {}; }
+  } given(EncodedMap{&map, &encoded});
+  out << map;
 }
 
 // Corrupt data throws a std::exception naming the problem and leaves the map as it was:

@@ -3,6 +3,7 @@
 // of any size is encoded through about 1 MB of memory.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -16,41 +17,47 @@ namespace ndtom::detail {
 class ByteWriter {
  public:
   static constexpr size_t kChunk = size_t(1) << 20;
-  explicit ByteWriter(const MapByteSink& sink) : sink_(sink) { out_.reserve(kChunk + 4096); }
+  explicit ByteWriter(const MapByteSink& sink) : sink_(sink), out_(kChunk + 4096) {}
   void bytes(const void* p, size_t n) {
-    const auto* b = static_cast<const uint8_t*>(p);
-    out_.insert(out_.end(), b, b + n);
+    if (n > 0) std::memcpy(room(n), p, n);
   }
   /// Hands over what is buffered if it is a chunk or more.
   void maybeFlush() {
-    if (out_.size() >= kChunk) flush();
+    if (used_ >= kChunk) flush();
   }
   void flush() {
-    crc_ = crc32(out_.data(), out_.size(), crc_);
-    sink_(out_.data(), out_.size());
-    out_.clear();
+    crc_ = crc32(out_.data(), used_, crc_);
+    sink_(out_.data(), used_);
+    used_ = 0;
   }
   /// Appends the CRC of everything written and hands the rest over.
   void finish() {
-    const uint32_t crc = crc32(out_.data(), out_.size(), crc_);
+    const uint32_t crc = crc32(out_.data(), used_, crc_);
     u32(crc);
-    sink_(out_.data(), out_.size());
-    out_.clear();
+    sink_(out_.data(), used_);
+    used_ = 0;
   }
-  void u8(uint8_t v) { out_.push_back(v); }
+  // Into a buffer with a room check per field, not a push_back per byte: encoding a map is
+  // mostly these.
+  void u8(uint8_t v) { *room(1) = v; }
   void u32(uint32_t v) {
-    for (int i = 0; i < 4; ++i) out_.push_back(uint8_t(v >> (8 * i)));
+    uint8_t* at = room(4);
+    for (int i = 0; i < 4; ++i) at[i] = uint8_t(v >> (8 * i));
   }
   void u64(uint64_t v) {
-    for (int i = 0; i < 8; ++i) out_.push_back(uint8_t(v >> (8 * i)));
+    uint8_t* at = room(8);
+    for (int i = 0; i < 8; ++i) at[i] = uint8_t(v >> (8 * i));
   }
   /// LEB128: 7 bits a byte, low first; small counts take one byte.
   void varint(uint64_t v) {
+    uint8_t* at = room(kMaxVarintBytes);
+    size_t n = 0;
     while (v >= 0x80) {
-      out_.push_back(uint8_t(v | 0x80));
+      at[n++] = uint8_t(v | 0x80);
       v >>= 7;
     }
-    out_.push_back(uint8_t(v));
+    at[n++] = uint8_t(v);
+    used_ -= kMaxVarintBytes - n;
   }
   void f32(float v) {
     uint32_t u;
@@ -64,8 +71,18 @@ class ByteWriter {
   }
 
  private:
+  static constexpr size_t kMaxVarintBytes = 10;
+  /// Where the next `n` bytes go; they count as written.
+  uint8_t* room(size_t n) {
+    if (__builtin_expect(n > out_.size() - used_, 0)) out_.resize(std::max(2 * out_.size(), used_ + n));
+    uint8_t* at = out_.data() + used_;
+    used_ += n;
+    return at;
+  }
+
   const MapByteSink& sink_;
-  std::vector<uint8_t> out_;
+  std::vector<uint8_t> out_;  ///< its first used_ bytes are written
+  size_t used_ = 0;
   uint32_t crc_ = 0;
 };
 

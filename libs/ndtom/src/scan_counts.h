@@ -186,7 +186,11 @@ class CountingWalker {
 
   void start(const CellIndex& c) {
     const CellIndex b = blockOf(c);
-    if (!block_ || b != block_->index) block_ = lookUp(counts_, b.x, b.y, b.z);
+    // A scan's rays all start at the sensor, and the last one ended elsewhere: the block of
+    // the last start saves a table lookup per ray.
+    if (!block_ || b != block_->index)
+      block_ = start_block_ && b == start_block_->index ? start_block_ : lookUp(counts_, b.x, b.y, b.z);
+    start_block_ = block_;
     offset_ = offsetInBlock(c);
   }
 
@@ -226,6 +230,7 @@ class CountingWalker {
 
   ScanCounts* counts_;
   CountBlock* block_ = nullptr;
+  CountBlock* start_block_ = nullptr;  ///< where the last ray started
   int32_t offset_ = 0;  ///< of the current cell in its block
   uint32_t weight_ = 1;
   size_t visits_ = 0;

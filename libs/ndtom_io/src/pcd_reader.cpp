@@ -221,9 +221,24 @@ PointCloud parsePcd(const std::string& bytes, const std::string& name, uint64_t 
       fail(name, "truncated: data holds " + std::to_string(available / h.point_bytes) + " of " +
                      std::to_string(h.points) + " points");
     cloud.points.resize(h.points);
-    for (size_t i = 0; i < h.points; ++i) {
-      const char* point = data + i * h.point_bytes;
-      for (int a = 0; a < 3; ++a) cloud.points[i][a] = decodeValue(point + xyz[a]->offset, *xyz[a]);
+    const auto isFloat = [](const Field* f) { return f->type == 'F' && f->size == 4; };
+    if (isFloat(xyz[0]) && isFloat(xyz[1]) && isFloat(xyz[2])) {
+      // The usual layout, read without decodeValue's switch per value (same values).
+      const size_t ox = xyz[0]->offset, oy = xyz[1]->offset, oz = xyz[2]->offset;
+      for (size_t i = 0; i < h.points; ++i) {
+        const char* point = data + i * h.point_bytes;
+        float x, y, z;
+        std::memcpy(&x, point + ox, 4);
+        std::memcpy(&y, point + oy, 4);
+        std::memcpy(&z, point + oz, 4);
+        cloud.points[i] = Eigen::Vector3d(x, y, z);
+      }
+    } else {
+      for (size_t i = 0; i < h.points; ++i) {
+        const char* point = data + i * h.point_bytes;
+        for (int a = 0; a < 3; ++a)
+          cloud.points[i][a] = decodeValue(point + xyz[a]->offset, *xyz[a]);
+      }
     }
   } else if (h.data == "binary_compressed") {
     // u32 compressed size, u32 uncompressed size, LZF data; fields stored one after another.
