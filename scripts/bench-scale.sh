@@ -7,16 +7,18 @@
 #      the two tiled files compared byte for byte;
 #  (b) ndtom-localize --region-radius through a KM_B km drive (other noise, scans between the
 #      map's) in a tiled map of the same streets: resident map bytes and RSS per km.
-# Writes doc/benchmarks/scale.csv and doc/benchmarks/scale.md; big temporaries are removed.
+# Writes doc/benchmarks/scale.csv and .md (CSV=FILE.csv: FILE.csv and FILE.md); big
+# temporaries are removed.
 # Usage: scripts/bench-scale.sh [BUILD_DIR (build, a Release build)]
 # Settings (environment): KM_A=1 KM_B=3 STEP_B=2 DRIVE_STEP=6 RES=0.4 TILES=8 RADIUS=50
-# LOC_RANGE=40 RUNS=2 (for a) RUNS_B=1 (for b: its map bytes are the same every run). About
+# LOC_RANGE=40 PARTS=ab (a, b or both) RUNS=2 (for a) RUNS_B=1 (for b: its map bytes are the same every run). About
 # 20 minutes on 2 busy cores, most of it localizing (0.6-1.5 s a scan).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 km_a=${KM_A:-1} km_b=${KM_B:-3} step_b=${STEP_B:-2} drive_step=${DRIVE_STEP:-6} res=${RES:-0.4} tiles=${TILES:-8}
 radius=${RADIUS:-50} loc_range=${LOC_RANGE:-40} runs=${RUNS:-2} runs_b=${RUNS_B:-1}
+parts=${PARTS:-ab}
 grep -q 'CMAKE_BUILD_TYPE:STRING=Release' "$build/CMakeCache.txt" ||
   { echo "bench-scale: $build is not a Release build" >&2; exit 1; }
 cmake --build "$build" -j2 --target ndtom-map ndtom-worldgen ndtom-localize >/dev/null
@@ -27,7 +29,7 @@ need_gb=$(awk -v k="$km_b" 'BEGIN{printf "%d", 2 + k + 0.999}')  # ~0.3 GB of PC
 avail_gb=$(df -BG --output=avail "$work" | tail -1 | tr -dc 0-9)
 (( avail_gb >= need_gb )) || { echo "bench-scale: $avail_gb GB free in $work, need $need_gb" >&2; exit 1; }
 mkdir -p doc/benchmarks
-csv=doc/benchmarks/scale.csv
+csv=${CSV:-doc/benchmarks/scale.csv}
 echo "part,run,what,value" > "$csv"
 row() { echo "$1,$2,$3,$4" >> "$csv"; }
 log() { echo "bench-scale: $*" >&2; }
@@ -42,6 +44,7 @@ raise() { awk -v dz="$(awk -v r="$res" 'BEGIN{print r / 2}')" '{ $12 = sprintf("
             "$1/poses.txt" > "$1/poses.raised" && mv "$1/poses.raised" "$1/poses.txt"; }
 
 # --- (a) out of core against in memory ---------------------------------------------------
+if [[ $parts == *a* ]]; then
 log "(a) a $km_a km drive"
 "$bin/ndtom-worldgen/ndtom-worldgen" "$work/city_a" --km "$km_a" --threads 2 -q
 raise "$work/city_a"
@@ -76,8 +79,10 @@ for run in $(seq 1 "$runs"); do
   rm -f "$work"/mem.* "$work"/ooc.*
 done
 rm -rf "$work/city_a"
+fi
 
 # --- (b) localization memory per km ------------------------------------------------------
+if [[ $parts == *b* ]]; then
 log "(b) a $km_b km drive for the map (a scan every $step_b m)"
 "$bin/ndtom-worldgen/ndtom-worldgen" "$work/city_b" --km "$km_b" --step "$step_b" --threads 2 -q
 raise "$work/city_b"
@@ -131,9 +136,10 @@ EOF
 done
 row b 0 whole_map_mb "$(python3 -c "print($(json "$work/city.summary.json" map map_bytes) / 1e6)")"
 row b 0 map_scans "$(json "$work/city.summary.json" scans_inserted)"
+fi
 
 # --- Summary -------------------------------------------------------------------------------
-python3 - "$csv" "$km_a" "$km_b" "$res" "$tiles" "$radius" "$loc_range" <<'EOF' | tee doc/benchmarks/scale.md
+python3 - "$csv" "$km_a" "$km_b" "$res" "$tiles" "$radius" "$loc_range" <<'EOF' | tee "${csv%.csv}.md"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 km_a, km_b, res, tiles, radius, loc_range = sys.argv[2:]
@@ -141,18 +147,21 @@ def vals(part, what):
     return [float(r["value"]) for r in rows if r["part"] == part and r["what"] == what]
 def rng(part, what, fmt="{:.1f}"):
     v = vals(part, what)
+    if not v:
+        return "-"
     return fmt.format(min(v)) if min(v) == max(v) else fmt.format(min(v)) + "-" + fmt.format(max(v))
 ratio = [o / m for o, m in zip(vals("a", "ooc_insert_ms_per_scan"), vals("a", "mem_insert_ms_per_scan"))]
-print(f"## Out of core against in memory: {km_a} km, {res} m cells, tiles of {tiles} blocks\n")
-print("| | in memory | out of core |\n|---|---|---|")
-print(f"| insertion per scan (mean) [ms] | {rng('a', 'mem_insert_ms_per_scan')} | {rng('a', 'ooc_insert_ms_per_scan')} |")
-print(f"| insertion per scan (median) [ms] | {rng('a', 'mem_insert_ms_median')} | {rng('a', 'ooc_insert_ms_median')} |")
-print(f"| peak RSS after mapping [MB] | {rng('a', 'mem_peak_rss_after_mapping_mb', '{:.0f}')} | {rng('a', 'ooc_peak_rss_after_mapping_mb', '{:.0f}')} |")
-print(f"| map [MB] | {rng('a', 'mem_map_mb', '{:.0f}')} | budget {rng('a', 'budget_mb')}, peak resident {rng('a', 'ooc_peak_resident_mb')} |")
-print(f"\nOut of core / in memory, time per scan, runs side by side: {min(ratio):.2f}-{max(ratio):.2f}. "
-      f"Scans {rng('a', 'scans', '{:.0f}')}; tiles spilled {rng('a', 'ooc_spills', '{:.0f}')} "
-      f"({rng('a', 'ooc_spilled_mb', '{:.0f}')} MB), read back {rng('a', 'ooc_loads', '{:.0f}')}; "
-      f"tiled files identical: {'yes' if min(vals('a', 'tiled_files_identical')) == 1 else 'NO'}.\n")
+if ratio:
+  print(f"## Out of core against in memory: {km_a} km, {res} m cells, tiles of {tiles} blocks\n")
+  print("| | in memory | out of core |\n|---|---|---|")
+  print(f"| insertion per scan (mean) [ms] | {rng('a', 'mem_insert_ms_per_scan')} | {rng('a', 'ooc_insert_ms_per_scan')} |")
+  print(f"| insertion per scan (median) [ms] | {rng('a', 'mem_insert_ms_median')} | {rng('a', 'ooc_insert_ms_median')} |")
+  print(f"| peak RSS after mapping [MB] | {rng('a', 'mem_peak_rss_after_mapping_mb', '{:.0f}')} | {rng('a', 'ooc_peak_rss_after_mapping_mb', '{:.0f}')} |")
+  print(f"| map [MB] | {rng('a', 'mem_map_mb', '{:.0f}')} | budget {rng('a', 'budget_mb')}, peak resident {rng('a', 'ooc_peak_resident_mb')} |")
+  print(f"\nOut of core / in memory, time per scan, runs side by side: {min(ratio):.2f}-{max(ratio):.2f}. "
+        f"Scans {rng('a', 'scans', '{:.0f}')}; tiles spilled {rng('a', 'ooc_spills', '{:.0f}')} "
+        f"({rng('a', 'ooc_spilled_mb', '{:.0f}')} MB), read back {rng('a', 'ooc_loads', '{:.0f}')}; "
+        f"tiled files identical: {'yes' if min(vals('a', 'tiled_files_identical')) == 1 else 'NO'}.\n")
 print(f"## Localizing through {km_b} km, --region-radius {radius}, --max-range {loc_range}\n")
 print(f"Whole map {rng('b', 'whole_map_mb', '{:.0f}')} MB ({rng('b', 'map_scans', '{:.0f}')} scans); "
       f"{rng('b', 'scans', '{:.0f}')} scans localized, {rng('b', 'lost', '{:.0f}')} lost, "
