@@ -32,6 +32,8 @@ MpiOptions parseMpiOptions(int argc, char** argv) {
   }
   o.map = parseMapperOptions(int(rest.size()), rest.data());
   if (o.map.passes != 1) throw apps::UsageError("--passes: ndtom-map-mpi makes one pass");
+  if (o.map.resident_budget_mb > 0)  // each process holds only its tiles already
+    throw apps::UsageError("--resident-budget: not with ndtom-map-mpi (use more processes)");
   return o;
 }
 
@@ -48,7 +50,8 @@ std::string mpiHelpText() {
          "                            system; the default), or process 0 reads and broadcasts\n"
          "  --rank-tiles B            tiles of B blocks (8 cells) a side are dealt out (Default: 4)\n"
          "\n"
-         "Every ndtom-map option applies except --passes (one pass). ndtom-map's help:\n\n" +
+         "Every ndtom-map option applies except --passes (one pass) and --resident-budget.\n"
+         "ndtom-map's help:\n\n" +
          helpText();
 }
 

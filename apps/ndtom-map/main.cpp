@@ -3,7 +3,9 @@
 // scene, pictures and a summary. Exit code 0 on success, 1 for bad input data or a failed
 // write, 2 for a bad command line.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "map_builder.h"
 #include "map_outputs.h"
@@ -15,6 +17,7 @@
 #include "run_summary.h"
 #include "scan_source.h"
 #include "source_settings.h"
+#include "spill_folder.h"
 
 using namespace ndtom::mapper;
 
@@ -29,14 +32,14 @@ void requireSomePoints(const MappingResult& mapping, const std::string& input) {
 }
 
 RunSummary summarize(const MapperOptions& o, const SourceSettings& settings,
-                     const mrpt_ndtom::CNDTOccupancyMap& map, const MappingResult& mapping,
-                     const std::optional<CoarseMapInfo>& coarse,
+                     const ndtom::MapOptions& map_options, int threads,
+                     const MappingResult& mapping, const std::optional<CoarseMapInfo>& coarse,
                      std::chrono::steady_clock::time_point start) {
   RunSummary summary;
   summary.input = o.input;
   summary.format = inputFormatName(settings.format);
-  summary.map_options = map.ndtMap().options();
-  summary.threads = map.insertionOptions.insertion.threads;
+  summary.map_options = map_options;
+  summary.threads = threads;
   summary.mapping = &mapping;
   summary.coarse = coarse;
   summary.peak_rss = ndtom::apps::peakRssBytes();
@@ -57,6 +60,32 @@ void checkOptionsTogether(const MapperOptions& o, const InsertionOptions& insert
   }
 }
 
+// The summary, then every file into place at once.
+void writeSummaryAndCommit(const MapperOptions& o, RunSummary& summary, StageTimes& times,
+                           OutputFiles& out) {
+  summary.stages = &times;
+  summary.files = out.files();
+  summary.files.push_back({"summary", o.prefix + ".summary.json"});
+  out.writeBytes("summary", ".summary.json", summaryJson(summary));
+  out.commit();
+  if (!o.quiet) std::fputs(summaryText(summary).c_str(), stdout);
+}
+
+// Out of core: the tiled file, written tile by tile, and the summary; nothing needs the whole
+// map in memory.
+void writeOutOfCore(const MapperOptions& o, const SourceSettings& settings,
+                    const BuildSettings& build, const MappingResult& mapping, OutputFiles& out,
+                    StageTimes& times, std::chrono::steady_clock::time_point start,
+                    size_t peak_rss_after_mapping) {
+  const std::string tiles_file = out.stage("tiled_map", ".ndtomtiles");
+  times.time("tiled_map", [&] { mapping.out_of_core->saveTiled(tiles_file); });
+  RunSummary summary = summarize(o, settings, build.map, build.threads, mapping, {}, start);
+  summary.peak_rss_after_mapping = peak_rss_after_mapping;
+  summary.out_of_core =
+      OutOfCoreInfo{build.resident_budget, build.tile_blocks, mapping.out_of_core->stats()};
+  writeSummaryAndCommit(o, summary, times, out);
+}
+
 int run(const MapperOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   // Read the options and open the input: every check that can fail fast happens here.
@@ -66,12 +95,29 @@ int run(const MapperOptions& o) {
   auto source = openScanSource(settings);
   OutputFiles out(o.prefix);
   if (!o.quiet) std::fprintf(stderr, "ndtom-map: %s\n", source->description().c_str());
+  BuildSettings build;
+  build.map = insertion.toMapOptions();
+  build.threads = insertion.insertion.threads;
+  build.passes = o.passes;
+  build.motion = o.motion;
+  std::optional<SpillFolder> spill;
+  if (o.resident_budget_mb > 0) {
+    spill.emplace(o.prefix, o.spill_dir);
+    build.resident_budget = uint64_t(std::round(o.resident_budget_mb * 1e6));
+    build.tile_blocks = o.tile_blocks > 0 ? o.tile_blocks : kDefaultOutOfCoreTileBlocks;
+    build.spill_folder = spill->path();
+    if (!o.quiet)
+      std::fprintf(stderr,
+                   "ndtom-map: out of core, %g MB resident, tiles of %d blocks spilled to %s; "
+                   "writes %s.ndtomtiles and the summary only (no single-file map, MRPT map, "
+                   "scene or pictures: they need the whole map in memory)\n",
+                   o.resident_budget_mb, build.tile_blocks, spill->path().c_str(),
+                   o.prefix.c_str());
+  }
 
   // Insert the scans.
   ndtom::apps::Progress progress(!o.quiet);
-  MappingResult mapping =
-      buildMap(std::move(source), settings,
-               {insertion.toMapOptions(), insertion.insertion.threads, o.passes, o.motion}, progress);
+  MappingResult mapping = buildMap(std::move(source), settings, build, progress);
   requireSomePoints(mapping, o.input);
   const size_t peak_rss_after_mapping = ndtom::apps::peakRssBytes();
   StageTimes times(start);
@@ -80,6 +126,11 @@ int run(const MapperOptions& o) {
   for (const double s : mapping.insert_seconds) insert_s += s;
   times.add("read", passes_s - insert_s);  // reading, decoding and moving the scans
   times.add("insert", insert_s);
+
+  if (mapping.out_of_core) {
+    writeOutOfCore(o, settings, build, mapping, out, times, start, peak_rss_after_mapping);
+    return 0;
+  }
 
   // Write the outputs (under temporary names until everything has succeeded).
   mrpt_ndtom::CNDTOccupancyMap map(insertion.resolution);
@@ -98,14 +149,10 @@ int run(const MapperOptions& o) {
   const auto coarse = writeMapOutputs(map, mapping.sensor_path, output_settings, out, times);
 
   // The summary, then every file into place at once.
-  RunSummary summary = summarize(o, settings, map, mapping, coarse, start);
+  RunSummary summary = summarize(o, settings, map.ndtMap().options(),
+                                 map.insertionOptions.insertion.threads, mapping, coarse, start);
   summary.peak_rss_after_mapping = peak_rss_after_mapping;
-  summary.stages = &times;
-  summary.files = out.files();
-  summary.files.push_back({"summary", o.prefix + ".summary.json"});
-  out.writeBytes("summary", ".summary.json", summaryJson(summary));
-  out.commit();
-  if (!o.quiet) std::fputs(summaryText(summary).c_str(), stdout);
+  writeSummaryAndCommit(o, summary, times, out);
   return 0;
 }
 

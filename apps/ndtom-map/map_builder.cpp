@@ -15,16 +15,27 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-PassResult describeMap(const ndtom::NdtMap& map) {
-  PassResult r;
-  r.cells = map.numCells();
-  r.gaussians = map.numGaussians();
+// Adds what `map` holds to `r`.
+void countMap(const ndtom::NdtMap& map, PassResult& r) {
+  r.cells += map.numCells();
+  r.gaussians += map.numGaussians();
   map.forEachCell([&](const ndtom::CellView& c) {
     const ndtom::CellState state = ndtom::cellState(map, c);
     r.occupied += state == ndtom::CellState::Occupied;
     r.free += state == ndtom::CellState::Free;
   });
-  r.map_bytes = map.memoryBytes();
+  r.map_bytes += map.memoryBytes();
+}
+
+// Out of core, tile by tile (spilled ones read back one at a time); map_bytes is then the
+// sum of the tiles' own maps, what the map would take in memory give or take hash tables.
+PassResult describeMap(MappingResult& result) {
+  PassResult r;
+  if (result.out_of_core)
+    result.out_of_core->forEachTile(
+        [&](const ndtom::CellIndex&, const ndtom::NdtMap& tile) { countMap(tile, r); });
+  else
+    countMap(result.map, r);
   r.rss_bytes = apps::currentRssBytes();
   return r;
 }
@@ -81,7 +92,10 @@ void insertAll(ScanSource& source, const ndtom::InsertOptions& insert,
     }
     const auto start = Clock::now();
     try {
-      result.points += result.map.insertScan(scan->points_world, scan->sensor_origin, insert);
+      result.points +=
+          result.out_of_core
+              ? result.out_of_core->insertScan(scan->points_world, scan->sensor_origin, insert)
+              : result.map.insertScan(scan->points_world, scan->sensor_origin, insert);
     } catch (const std::invalid_argument& e) {  // a bad sensor origin; the map is unchanged
       throw InputError(scan->name + ": " + e.what());
     } catch (const ndtom::MemoryBudgetError& e) {
@@ -98,7 +112,12 @@ void insertAll(ScanSource& source, const ndtom::InsertOptions& insert,
 
 MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings& settings,
                        const BuildSettings& build, apps::Progress& progress) {
-  MappingResult result{ndtom::NdtMap(build.map), {}, {}, {}, {}, {}, source->description()};
+  MappingResult result;
+  result.map = ndtom::NdtMap(build.map);
+  result.source_description = source->description();
+  if (build.resident_budget > 0)
+    result.out_of_core = std::make_unique<ndtom::OutOfCoreMap>(
+        build.map, build.resident_budget, build.tile_blocks, build.spill_folder);
   ndtom::InsertOptions insert = build.map.insertion;
   insert.threads = build.threads;
   for (int pass = 1; pass <= build.passes; ++pass) {
@@ -110,7 +129,7 @@ MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings&
     insertAll(*source, insert, build.motion, pass == 1, settings.input, result, progress);
     progress.finish();
     if (pass == 1) result.skips = source->skips();
-    PassResult r = describeMap(result.map);
+    PassResult r = describeMap(result);
     r.scans = source->size();
     r.seconds = secondsSince(start);
     result.passes.push_back(r);

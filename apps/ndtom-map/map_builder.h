@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ndtom/ndt_map.h"
+#include "ndtom/out_of_core_map.h"
 #include "ndtom_apps/motion_gate.h"
 #include "ndtom_apps/progress.h"
 #include "scan_source.h"
@@ -23,7 +24,8 @@ struct PassResult {
 };
 
 struct MappingResult {
-  ndtom::NdtMap map;
+  ndtom::NdtMap map;                                 ///< empty when built out of core
+  std::unique_ptr<ndtom::OutOfCoreMap> out_of_core;  ///< the map, if built out of core
   ndtom::InsertionReport points;       ///< every point of every pass, by what became of it
   std::vector<double> insert_seconds;  ///< per scan, every pass: NdtMap::insertScan only
   std::vector<PassResult> passes;
@@ -37,6 +39,9 @@ struct BuildSettings {
   int threads = 1;
   int passes = 1;
   apps::MotionThresholds motion;  ///< the paper's insertion rule; off by default
+  uint64_t resident_budget = 0;   ///< > 0: out of core (OutOfCoreMap), this many bytes resident
+  int tile_blocks = 0;            ///< out of core: the tiles' edge in blocks
+  std::string spill_folder;       ///< out of core: where tiles are spilled
 };
 
 /// Inserts every scan of `source` that passes the motion gate (already opened from `settings`),

@@ -80,6 +80,15 @@ const apps::OptionTable<MapperOptions>& optionTable() {
         [](O& o, const std::string& v) {
           o.tile_blocks = int(parseInteger("--tiles", v, 1, 4096));
         }}},
+      {"--resident-budget",
+       {true,
+        [](O& o, const std::string& v) {
+          o.resident_budget_mb = positive("--resident-budget", v);
+          // Whole bytes, and a budget no machine has is a typing error.
+          if (o.resident_budget_mb < 1e-6 || o.resident_budget_mb > 1e12)
+            throw UsageError("--resident-budget = " + v + ": must be in [1e-6, 1e12] MB");
+        }}},
+      {"--spill-dir", {true, [](O& o, const std::string& v) { o.spill_dir = v; }}},
       {"--image-width",
        {true,
         [](O& o, const std::string& v) {
@@ -116,6 +125,13 @@ void checkComplete(const MapperOptions& o) {
   if (o.prefix.empty()) throw UsageError("missing -o PREFIX (see --help)");
   if (o.prefix.back() == '/')
     throw UsageError("-o " + o.prefix + ": PREFIX names files, e.g. out/map, not a folder");
+  if (o.resident_budget_mb > 0) {
+    // These outputs are made from the whole map, which an out-of-core build never holds.
+    if (o.coarse) throw UsageError("--coarse needs the whole map in memory: not with --resident-budget");
+    if (o.octomap) throw UsageError("--octomap needs the whole map in memory: not with --resident-budget");
+  } else if (!o.spill_dir.empty()) {
+    throw UsageError("--spill-dir " + o.spill_dir + ": only with --resident-budget");
+  }
 }
 
 }  // namespace
@@ -184,6 +200,20 @@ std::string helpText() {
   }
   s << "  --coarse K                also write a map K times coarser (exact merge of cells)\n"
        "  --passes N                replay the input N times, cells and memory after each (1)\n"
+       "\n"
+       "Out of core (maps bigger than memory):\n"
+       "  --resident-budget MB      keep about MB megabytes of map in memory: the tiles no scan\n"
+       "                            used for the longest are spilled to disk and read back when a\n"
+       "                            scan reaches them (the same map, bit for bit). Writes only\n"
+       "                            PREFIX.ndtomtiles (tiles of --tiles B blocks, default "
+    << kDefaultOutOfCoreTileBlocks
+    << ")\n"
+       "                            and PREFIX.summary.json: the single-file map, MRPT map, scene\n"
+       "                            and pictures need the whole map in memory, so they are not\n"
+       "                            written (nor --coarse, --octomap). Memory is the budget plus\n"
+       "                            the tiles one scan reaches (its points cut at max_range)\n"
+       "  --spill-dir DIR           spill into a new folder in DIR (default: PREFIX's folder);\n"
+       "                            removed at the end\n"
        "\n"
        "Output:\n"
        "  -o, --output PREFIX       PREFIX.ndtom (project format), PREFIX.ndtommap (MRPT\n"

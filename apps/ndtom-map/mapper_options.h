@@ -32,12 +32,18 @@ struct MapperOptions {
   bool pictures = true;
   bool octomap = false;  ///< also write PREFIX.bt
   int tile_blocks = 0;   ///< also write PREFIX.ndtomtiles, tiles this many blocks a side; 0 = no
+  double resident_budget_mb = 0;  ///< > 0: build out of core, this much map in memory [MB]
+  std::string spill_dir;          ///< where the out-of-core build spills; empty: beside PREFIX
   int image_width = 1200;           ///< pixels (Default: 1200)
   uint32_t max_ellipsoids = 50000;  ///< drawn in the 3D picture and scene (Default: 50000)
   int ellipsoid_detail = -1;        ///< their subdivisions, 0-4; -1: by how many are drawn
   bool quiet = false;
   bool help = false;
 };
+
+/// Tiles of the out-of-core build when --tiles is not given: 12.8 m at 0.2 m cells, a few
+/// MB of city each, so that a budget of tens of MB still holds many of them.
+constexpr int kDefaultOutOfCoreTileBlocks = 8;
 
 /// Throws apps::UsageError with a one-line message for unknown options, missing or bad values.
 MapperOptions parseMapperOptions(int argc, char** argv);

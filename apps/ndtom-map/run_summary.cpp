@@ -107,6 +107,17 @@ void writeMapAndCosts(JsonWriter& j, const RunSummary& s) {
   j.field("map_bytes", last.map_bytes);
   j.field("peak_rss_after_mapping_bytes", s.peak_rss_after_mapping);
   j.field("peak_rss_bytes", s.peak_rss);
+  if (s.out_of_core) {
+    const OutOfCoreInfo& o = *s.out_of_core;
+    j.beginObject("out_of_core");
+    j.field("resident_budget_bytes", o.resident_budget);
+    j.field("tile_blocks", o.tile_blocks);
+    j.field("peak_resident_bytes", o.stats.peak_resident_bytes);
+    j.field("spills", o.stats.spills);
+    j.field("loads", o.stats.loads);
+    j.field("spilled_bytes", o.stats.spilled_bytes);
+    j.endObject();
+  }
   if (s.stages) {
     j.beginObject("peak_rss_after_stage_bytes");
     for (const auto& stage : s.stages->stages()) j.field(stage.name, stage.peak_rss_bytes);
@@ -194,6 +205,15 @@ std::string summaryText(const RunSummary& s) {
       text += buffer;
     }
     text.back() = '\n';
+  }
+  if (s.out_of_core) {
+    const OutOfCoreInfo& o = *s.out_of_core;
+    std::snprintf(buffer, sizeof buffer,
+                  "  out of core  budget %.1f MB, peak resident %.1f MB; %zu tiles spilled "
+                  "(%.1f MB), %zu read back\n",
+                  megabytes(o.resident_budget), megabytes(o.stats.peak_resident_bytes),
+                  o.stats.spills, megabytes(o.stats.spilled_bytes), o.stats.loads);
+    text += buffer;
   }
   if (m.passes.size() > 1) {
     const PassDrift d = passDrift(m.passes);

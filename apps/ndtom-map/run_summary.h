@@ -17,6 +17,13 @@ struct CoarseMapInfo {
   size_t cells = 0, gaussians = 0;
 };
 
+/// An out-of-core build: its settings and what OutOfCoreMap counted.
+struct OutOfCoreInfo {
+  uint64_t resident_budget = 0;  ///< bytes
+  int tile_blocks = 0;
+  ndtom::OutOfCoreMap::Stats stats;
+};
+
 struct WrittenFile {
   std::string role;  ///< "map", "mrpt_map", "scene", "top_view", "view_3d", "coarse_map", ...
   std::string path;
@@ -28,6 +35,7 @@ struct RunSummary {
   int threads = 1;
   const MappingResult* mapping = nullptr;
   std::optional<CoarseMapInfo> coarse;
+  std::optional<OutOfCoreInfo> out_of_core;
   double total_seconds = 0;
   size_t peak_rss_after_mapping = 0;  ///< bytes, before the pictures and files
   size_t peak_rss = 0;                ///< bytes, whole run

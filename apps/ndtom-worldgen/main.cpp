@@ -16,6 +16,7 @@
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_io/pcd_reader.h"
+#include "ndtom_io/pose_file.h"
 #include "simulated_lidar.h"
 #include "world_options.h"
 
@@ -42,14 +43,9 @@ int run(const WorldOptions& o) {
   const CityWorld city(o.city);
   const auto poses = driveThrough(city, o.route);
 
-  std::string kitti, times;
-  char line[256];
+  std::string times;
+  char line[64];
   for (size_t i = 0; i < poses.size(); ++i) {
-    const Eigen::Matrix<double, 3, 4> m = poses[i].matrix().topRows<3>();
-    std::snprintf(line, sizeof line, "%.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n",
-                  m(0, 0), m(0, 1), m(0, 2), m(0, 3), m(1, 0), m(1, 1), m(1, 2), m(1, 3), m(2, 0),
-                  m(2, 1), m(2, 2), m(2, 3));
-    kitti += line;
     std::snprintf(line, sizeof line, "%.6f\n", double(i) * o.route.step / o.speed);
     times += line;
   }
@@ -83,7 +79,7 @@ int run(const WorldOptions& o) {
   if (failure) std::rethrow_exception(failure);
   // Poses last: a folder with poses.txt is complete.
   writeText((fs::path(o.out) / "times.txt").string(), times);
-  writeText((fs::path(o.out) / "poses.txt").string(), kitti);
+  ndtom::io::writeKittiPoseFile((fs::path(o.out) / "poses.txt").string(), poses);
   if (!o.quiet)
     std::printf("ndtom-worldgen: %zu scans over %.2f km in a city of %dx%d blocks (%zu boxes), "
                 "%.1f M points, %.1f s; wrote %s\n",

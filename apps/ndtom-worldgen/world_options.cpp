@@ -45,6 +45,9 @@ WorldOptions parseWorldOptions(int argc, const char* const argv[]) {
                     w.city.seed = w.route.seed = w.lidar.seed =
                         uint64_t(parseInteger("--seed", v, 0, INT64_MAX));
                   }}},
+      {"--noise-seed", {true, [](WorldOptions& w, const std::string& v) {
+                          w.noise_seed = uint64_t(parseInteger("--noise-seed", v, 0, INT64_MAX));
+                        }}},
       {"--rings", {true, [](WorldOptions& w, const std::string& v) {
                      w.lidar.rings = int(parseInteger("--rings", v, 1, 512));
                    }}},
@@ -70,6 +73,7 @@ WorldOptions parseWorldOptions(int argc, const char* const argv[]) {
   if (o.help) return o;
   if (positional.size() != 1) throw apps::UsageError("give one output folder (see --help)");
   o.out = positional[0];
+  if (o.noise_seed) o.lidar.seed = *o.noise_seed;  // whatever the order with --seed
   if (o.route.length / o.route.step > 1e7)
     throw apps::UsageError("--km / --step: over 10 million scans");
   if (!o.city_size_given)
@@ -87,6 +91,7 @@ std::string worldHelpText() {
          "  --step S             distance between scans [m] (1)\n"
          "  --blocks N           city blocks per side (default: enough for the drive)\n"
          "  --seed N             world, route and noise (1)\n"
+         "  --noise-seed N       the noise only: another drive of the same streets (--seed)\n"
          "  --rings N            lidar rings, -25..+15 deg (32)\n"
          "  --azimuth-steps N    rays per ring per turn (900)\n"
          "  --max-range R        [m] (80); rays reaching nothing give no point\n"

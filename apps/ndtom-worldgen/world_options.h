@@ -1,6 +1,7 @@
 // ndtom-worldgen's command line.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "city_route.h"
@@ -12,6 +13,7 @@ struct WorldOptions {
   std::string out;  ///< folder for the scans, poses.txt and times.txt
   CityLayout city;
   bool city_size_given = false;  ///< else sized from the route's length
+  std::optional<uint64_t> noise_seed;  ///< --noise-seed: the lidar's alone
   RouteSettings route;
   LidarModel lidar;
   double speed = 10;  ///< (m/s) for times.txt

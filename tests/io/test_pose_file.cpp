@@ -94,3 +94,37 @@ TEST(PoseFile, RefusesFilesThatAreNotRegularFiles) {
     }
   }
 }
+
+// The writer against the reader: every translation back bit for bit, every rotation to its
+// last bits (the reader re-orthonormalises), and the text holds the exact doubles.
+TEST(PoseFile, KittiWriterRoundTripsThroughTheReader) {
+  std::vector<Eigen::Isometry3d> written;
+  for (int i = 0; i < 50; ++i) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = Eigen::AngleAxisd(0.37 * i - 3, Eigen::Vector3d(1, 0.1 * i, -2).normalized())
+                        .toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(1e3 / 3 * i, -0.1 - i * M_PI, 1e-7 * i * i);
+    written.push_back(pose);
+  }
+  const std::string path = ::testing::TempDir() + "/written_poses.txt";
+  ndtom::io::writeKittiPoseFile(path, written);
+  ndtom::io::PoseFormat format = ndtom::io::PoseFormat::Auto;
+  const auto read = readPoseFile(path, ndtom::io::PoseFormat::Auto, &format);
+  EXPECT_EQ(format, ndtom::io::PoseFormat::Kitti);
+  ASSERT_EQ(read.size(), written.size());
+  std::ifstream text(path);
+  for (size_t i = 0; i < written.size(); ++i) {
+    EXPECT_EQ(read[i].time, double(i));
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(read[i].pose.translation()[k], written[i].translation()[k]);
+    EXPECT_LT((read[i].pose.linear() - written[i].linear()).cwiseAbs().maxCoeff(), 1e-15);
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 4; ++col) {
+        double x = 0;
+        ASSERT_TRUE(text >> x);
+        EXPECT_EQ(x, written[i].matrix()(row, col)) << "line " << i + 1;
+      }
+  }
+  EXPECT_EQ(ndtom::io::kittiPoseText({}), "");
+  EXPECT_THROW(ndtom::io::writeKittiPoseFile(::testing::TempDir() + "/no/such/folder/p.txt", written),
+               PoseFileError);
+}

@@ -12,6 +12,7 @@
 #include "ndtom/map_io.h"
 #include "ndtom/tiled_map.h"
 #include "ndtom_io/pcd_reader.h"
+#include "ndtom_io/pose_file.h"
 #include "simulated_lidar.h"
 #include "support/program_run.h"
 
@@ -25,18 +26,17 @@ const Eigen::Translation3d kRaise(0, 0, 0.2);
 void writeDrive(const ndtom::world::CityWorld& city, const ndtom::world::LidarModel& lidar,
                 const std::vector<Eigen::Isometry3d>& poses, const fs::path& folder) {
   fs::create_directories(folder);
-  std::ofstream kitti(folder / "poses.txt"), times(folder / "times.txt");
-  kitti << std::setprecision(12);
+  std::ofstream times(folder / "times.txt");
+  std::vector<Eigen::Isometry3d> raised;
   for (size_t i = 0; i < poses.size(); ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "scan%06zu.pcd", i);
     ndtom::io::writePcdBinary((folder / name).string(),
                               ndtom::world::simulateScan(city, lidar, poses[i], i));
-    const Eigen::Matrix<double, 3, 4> m = (kRaise * poses[i]).matrix().topRows<3>();
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 4; ++c) kitti << m(r, c) << (r == 2 && c == 3 ? "\n" : " ");
+    raised.push_back(kRaise * poses[i]);
     times << 0.5 * double(i) << "\n";
   }
+  ndtom::io::writeKittiPoseFile((folder / "poses.txt").string(), raised);
 }
 
 TEST(LocalizeRegion, TiledMapLoadedAroundTheRobotPlacesEveryScan) {

@@ -14,6 +14,7 @@
 #include "mapper_run.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 #include "ndtom/map_io.h"
+#include "ndtom_io/pose_file.h"
 
 using namespace mapper_test;
 using mrpt::poses::CPose3D;
@@ -65,14 +66,16 @@ std::string expectedMap(const std::vector<LogScan>& scans, size_t count, Use use
 }
 
 void writeKitti(const std::vector<LogScan>& scans, const fs::path& path) {
-  FILE* f = std::fopen(path.string().c_str(), "w");
+  std::vector<Eigen::Isometry3d> poses;
   for (const auto& s : scans) {
     const auto m = s.pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
+    Eigen::Isometry3d pose;
     for (int row = 0; row < 3; ++row)
-      for (int col = 0; col < 4; ++col) std::fprintf(f, "%.17g ", m(row, col));
-    std::fprintf(f, "\n");
+      for (int col = 0; col < 4; ++col) pose.matrix()(row, col) = m(row, col);
+    pose.makeAffine();
+    poses.push_back(pose);
   }
-  std::fclose(f);
+  ndtom::io::writeKittiPoseFile(path.string(), poses);
 }
 
 void writeTum(const std::vector<LogScan>& scans, const fs::path& path) {

@@ -79,7 +79,7 @@ TEST(MapMpi, BadCommandLinesAreRefusedByEveryProcessWithoutHanging) {
   TempDir dir;
   const std::string out = " -o " + quoted((dir / "m").string());
   for (const std::string bad : {" --rank-tiles 0", " --scan-input smoke", " --passes 2",
-                                " --resolution -1"}) {
+                                " --resolution -1", " --resident-budget 10"}) {
     SCOPED_TRACE(bad);
     const ProgramRun run = runMpi(2, quoted(kLidar) + out + bad, dir);
     EXPECT_NE(run.exit_code, 0);

@@ -217,6 +217,16 @@ TEST(WorldgenProgram, SameFilesForAnyThreadCountAndReadableScans) {
     ++lines;
   }
   EXPECT_EQ(lines, scans);
+  // --noise-seed: the same drive (poses) with other noise (every scan's points differ).
+  const std::string other = std::string(NDTOM_WORLDGEN_EXE) + " " + (dir / "noise").string() +
+                            common + " --noise-seed 2";
+  ASSERT_EQ(std::system(other.c_str()), 0) << other;
+  EXPECT_EQ(readAll(dir / "noise" / "poses.txt"), readAll(dir / "1" / "poses.txt"));
+  for (size_t i = 0; i < scans; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "scan%06zu.pcd", i);
+    EXPECT_NE(readAll(dir / "noise" / name), readAll(dir / "1" / name)) << name;
+  }
   // Bad options are usage errors (exit 2) naming the option.
   const std::string bad = std::string(NDTOM_WORLDGEN_EXE) + " " + (dir / "bad").string() +
                           " --step 0 2>/dev/null";

@@ -116,27 +116,30 @@ InsertionReport OutOfCoreMap::insertScan(const std::vector<Eigen::Vector3d>& poi
   return report;
 }
 
-void OutOfCoreMap::saveTiled(const std::string& path) {
+void OutOfCoreMap::forEachTile(const TileSink& visit) {
   std::set<CellIndex> tiles(spilled_.begin(), spilled_.end());
   for (const auto& [t, used] : last_use_) tiles.insert(t);
-  saveTiledMap(resident_.options(), path, tile_blocks_, [&](const TileSink& sink) {
-    for (const CellIndex& t : tiles) {
-      if (spilled_.count(t)) {
-        sink(t, loadMap(spillPath(t), std::numeric_limits<uint64_t>::max()));
-        continue;
-      }
-      // Lent to the writer and put back.
-      NdtMap tile = resident_.extractBlocks(
-          [&](const CellIndex& block) { return tileOfBlock(block, tile_blocks_) == t; });
-      try {
-        sink(t, tile);
-      } catch (...) {
-        resident_.absorbBlocks(std::move(tile));
-        throw;
-      }
-      resident_.absorbBlocks(std::move(tile));
+  for (const CellIndex& t : tiles) {
+    if (spilled_.count(t)) {
+      visit(t, loadMap(spillPath(t), std::numeric_limits<uint64_t>::max()));
+      continue;
     }
-  });
+    NdtMap tile = resident_.extractBlocks(
+        [&](const CellIndex& block) { return tileOfBlock(block, tile_blocks_) == t; });
+    if (tile.isEmpty()) continue;  // a tile the last scans' boxes met but never filled
+    try {
+      visit(t, tile);
+    } catch (...) {
+      resident_.absorbBlocks(std::move(tile));
+      throw;
+    }
+    resident_.absorbBlocks(std::move(tile));
+  }
+}
+
+void OutOfCoreMap::saveTiled(const std::string& path) {
+  saveTiledMap(resident_.options(), path, tile_blocks_,
+               [&](const TileSink& sink) { forEachTile(sink); });
 }
 
 NdtMap& OutOfCoreMap::assemble() {

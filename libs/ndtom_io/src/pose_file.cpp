@@ -3,9 +3,11 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "ndtom/input_file.h"
+#include "ndtom_internal/atomic_file.h"
 
 namespace ndtom::io {
 namespace {
@@ -17,6 +19,30 @@ const char* formatName(PoseFormat format) {
 }
 
 }  // namespace
+
+std::string kittiPoseText(const std::vector<Eigen::Isometry3d>& poses) {
+  std::string text;
+  char number[32];
+  for (const Eigen::Isometry3d& pose : poses) {
+    const Eigen::Matrix<double, 3, 4> m = pose.matrix().topRows<3>();
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 4; ++col) {
+        std::snprintf(number, sizeof number, "%.17g", m(row, col));
+        text += number;
+        text += row == 2 && col == 3 ? '\n' : ' ';
+      }
+  }
+  return text;
+}
+
+void writeKittiPoseFile(const std::string& path, const std::vector<Eigen::Isometry3d>& poses) {
+  const std::string text = kittiPoseText(poses);
+  try {
+    writeFileAtomically(path, text.data(), text.size());
+  } catch (const std::runtime_error& e) {
+    throw PoseFileError(std::string("pose file: ") + e.what());
+  }
+}
 
 Eigen::Isometry3d poseFromTranslationQuaternion(const double t[3], double qx, double qy, double qz,
                                                 double qw) {

@@ -44,6 +44,9 @@ class OutOfCoreMap {
   /// Writes the whole map as a tiled file, one tile in memory at a time besides the resident
   /// ones.
   void saveTiled(const std::string& path);
+  /// Shows every tile holding cells, in tile order, each as a map of its own: a spilled tile
+  /// read into memory for the call (it stays spilled), a resident one lent and put back.
+  void forEachTile(const TileSink& visit);
   /// Reads every spilled tile back: the whole map in memory (for the single-file format).
   NdtMap& assemble();
 

@@ -29,6 +29,14 @@ struct StampedPose {
 std::vector<StampedPose> readPoseFile(const std::string& path, PoseFormat format = PoseFormat::Auto,
                                       PoseFormat* used = nullptr);
 
+/// The poses as KITTI lines (row-major [R|t], 12 numbers) printed with %.17g: readPoseFile
+/// gets every translation back bit for bit, and every rotation to its last bits (it
+/// re-orthonormalises).
+std::string kittiPoseText(const std::vector<Eigen::Isometry3d>& poses);
+/// Writes kittiPoseText(poses) to `path` atomically (the old file stays on failure); throws
+/// PoseFileError naming the file.
+void writeKittiPoseFile(const std::string& path, const std::vector<Eigen::Isometry3d>& poses);
+
 /// Pose from translation and quaternion (x, y, z, w as TUM writes them); rejects a zero
 /// or non-finite quaternion with std::invalid_argument.
 Eigen::Isometry3d poseFromTranslationQuaternion(const double t[3], double qx, double qy, double qz,
