@@ -20,7 +20,7 @@
 #include "output_files.h"
 #include "height_colors.h"
 #include "scan_feed.h"
-#include "source_settings.h"
+#include "settings_from_options.h"
 #include "stage_times.h"
 
 using namespace ndtom::mapper;
@@ -144,14 +144,7 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   mrpt_map.renderOptions =
       renderOptionsFor(map, heightScaleOf(map), o.max_ellipsoids, o.ellipsoid_detail);
   mrpt_map.setNdtMap(std::move(map));
-  OutputSettings output_settings;
-  output_settings.coarse = o.coarse;
-  output_settings.pictures = o.pictures;
-  output_settings.image_width = o.image_width;
-  output_settings.max_ellipsoids = o.max_ellipsoids;
-  output_settings.octomap = o.octomap;
-  output_settings.threads = insertion.insertion.threads;
-  output_settings.tile_blocks = o.tile_blocks;
+  const OutputSettings output_settings = outputSettingsFor(o, insertion);
   writeMapOutputs(mrpt_map, sensor_path, output_settings, *out, times);
   const double total_s = secondsSince(start);
   out->writeBytes("distributed", ".mpi.json",

@@ -14,7 +14,7 @@
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"
-#include "source_settings.h"
+#include "settings_from_options.h"
 
 using namespace ndtom::mapper;
 

@@ -16,7 +16,7 @@
 #include "oblique_view.h"
 #include "run_summary.h"
 #include "scan_source.h"
-#include "source_settings.h"
+#include "settings_from_options.h"
 #include "spill_folder.h"
 
 using namespace ndtom::mapper;
@@ -138,14 +138,7 @@ int run(const MapperOptions& o) {
   map.renderOptions = renderOptionsFor(mapping.map, heightScaleOf(mapping.map), o.max_ellipsoids,
                                        o.ellipsoid_detail);
   map.setNdtMap(std::move(mapping.map));
-  OutputSettings output_settings;
-  output_settings.coarse = o.coarse;
-  output_settings.pictures = o.pictures;
-  output_settings.image_width = o.image_width;
-  output_settings.max_ellipsoids = o.max_ellipsoids;
-  output_settings.octomap = o.octomap;
-  output_settings.threads = insertion.insertion.threads;
-  output_settings.tile_blocks = o.tile_blocks;
+  const OutputSettings output_settings = outputSettingsFor(o, insertion);
   const auto coarse = writeMapOutputs(map, mapping.sensor_path, output_settings, out, times);
 
   // The summary, then every file into place at once.

@@ -1,4 +1,4 @@
-#include "source_settings.h"
+#include "settings_from_options.h"
 
 namespace ndtom::mapper {
 
@@ -15,6 +15,18 @@ SourceSettings sourceSettingsFor(const MapperOptions& o, const InsertionOptions&
   s.max_scans = o.max_scans;
   s.max_scan_points =
       ndtom::NdtMap::maxScanPoints(insertion.toMapOptions().insertion.memory_budget);
+  return s;
+}
+
+OutputSettings outputSettingsFor(const MapperOptions& o, const InsertionOptions& insertion) {
+  OutputSettings s;
+  s.coarse = o.coarse;
+  s.pictures = o.pictures;
+  s.image_width = o.image_width;
+  s.max_ellipsoids = o.max_ellipsoids;
+  s.octomap = o.octomap;
+  s.threads = insertion.insertion.threads;
+  s.tile_blocks = o.tile_blocks;
   return s;
 }
 
