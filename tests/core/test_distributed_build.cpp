@@ -4,6 +4,7 @@
 // put together are the serial map bit for bit, for either ray mode and any thread count.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <random>
 
@@ -92,6 +93,33 @@ TEST(OwnedRayWalk, AllRanksTogetherWalkEachCellOfTheSerialWalkOnce) {
                                       << to.transpose() << ", tiles of " << tile_blocks
                                       << " blocks, " << ranks << " ranks";
         }
+      }
+    }
+  }
+}
+
+TEST(OwnedRayWalk, RaysEndingWithinRoundingOfATileBoundaryToo) {
+  // Where cellOf(end) and the walk's crossing times disagree by rounding, the walk may stop
+  // short of the end cell or step past it: the owned walks must follow it either way.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> coordinate(-20, 20);
+  std::uniform_int_distribution<int> tile_index(-4, 4);
+  for (const double resolution : {0.1, 0.2, 0.3}) {
+    const GridGeometry g(resolution);
+    for (int ray = 0; ray < 4000; ++ray) {
+      const Eigen::Vector3d from(coordinate(rng), coordinate(rng), coordinate(rng));
+      Eigen::Vector3d to(coordinate(rng), coordinate(rng), coordinate(rng));
+      const int axis = ray % 3, tile_blocks = 1 + ray % 2;
+      const double boundary = double(tile_index(rng) * tile_blocks * ndtom::kBlockEdge) * resolution;
+      const int nudge = ray % 5 - 2;  // -2..2 ulps around the boundary
+      to[axis] = boundary;
+      for (int i = 0; i < std::abs(nudge); ++i)
+        to[axis] = std::nextafter(to[axis], nudge > 0 ? 1e9 : -1e9);
+      const auto serial = serialWalk(g, from, to);
+      for (const int ranks : {2, 3}) {
+        size_t steps = 0;
+        ASSERT_EQ(ownedWalks(g, from, to, tile_blocks, ranks, steps), serial)
+            << "ray " << ray << " to " << to.transpose() << ", resolution " << resolution;
       }
     }
   }
