@@ -6,6 +6,7 @@
 # --with-octomap-tools) and python3 (to convert the scans to OctoMap's scan graph, untimed).
 # Writes doc/benchmarks/map-e2e.csv and prints a table.
 # Usage: scripts/bench-map-e2e.sh [RUNS (3)] [RESOLUTION (0.2)] [MAX_RANGE (30)]
+# BUILD=dir to use an existing Release build instead of build-bench.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs=${1:-3} resolution=${2:-0.2} max_range=${3:-30}
@@ -13,8 +14,9 @@ data="${NDTOM_SHARED_DATASETS:-../shared/datasets}/balm-realworld"
 [[ -d "$data" ]] || { echo "bench-map-e2e: no lidar data at $data" >&2; exit 1; }
 command -v graph2tree >/dev/null || { echo "bench-map-e2e: needs graph2tree (setup.sh --with-octomap-tools)" >&2; exit 1; }
 
-cmake -S . -B build-bench -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build-bench -j2 --target ndtom-map >/dev/null
+build=${BUILD:-build-bench}
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build" -j2 --target ndtom-map >/dev/null
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 scripts/pcd_to_octomap_log.py "$data" "$work/scans.log"
@@ -26,7 +28,7 @@ measure() {
   /usr/bin/time -f "%e %M" -o "$work/time" "$@" >/dev/null 2>&1 || { echo "failed: $*" >&2; exit 1; }
   awk '{printf "%s %.0f", $1, $2 / 1024}' "$work/time"
 }
-mapper=build-bench/apps/ndtom-map/ndtom-map
+mapper=$build/apps/ndtom-map/ndtom-map
 csv=doc/benchmarks/map-e2e.csv
 mkdir -p doc/benchmarks
 echo "run,system,wall_s,peak_rss_mb,ratio_to_graph2tree" > "$csv"
