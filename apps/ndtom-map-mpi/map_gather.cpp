@@ -1,9 +1,8 @@
 #include "map_gather.h"
 
-#include <algorithm>
-#include <climits>
 #include <vector>
 
+#include "mpi_pieces.h"
 #include "ndtom/map_io.h"
 
 namespace ndtom::mapper {
@@ -13,13 +12,13 @@ NdtMap gatherMap(NdtMap part, MPI_Comm comm, uint64_t& bytes_sent) {
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
   bytes_sent = 0;
-  constexpr uint64_t kPiece = INT_MAX / 2;  // MPI counts are ints
   if (rank != 0) {
     const std::vector<uint8_t> bytes = encodeMap(part);
     uint64_t size = bytes.size();
     MPI_Send(&size, 1, MPI_UINT64_T, 0, 0, comm);
-    for (uint64_t done = 0; done < size; done += kPiece)
-      MPI_Send(bytes.data() + done, int(std::min(kPiece, size - done)), MPI_BYTE, 0, 1, comm);
+    forEachMpiPiece(size, [&](uint64_t offset, int n) {
+      MPI_Send(bytes.data() + offset, n, MPI_BYTE, 0, 1, comm);
+    });
     bytes_sent = size;
     return NdtMap(part.options());
   }
@@ -28,9 +27,9 @@ NdtMap gatherMap(NdtMap part, MPI_Comm comm, uint64_t& bytes_sent) {
     uint64_t size = 0;
     MPI_Recv(&size, 1, MPI_UINT64_T, from, 0, comm, MPI_STATUS_IGNORE);
     std::vector<uint8_t> bytes(size);
-    for (uint64_t done = 0; done < size; done += kPiece)
-      MPI_Recv(bytes.data() + done, int(std::min(kPiece, size - done)), MPI_BYTE, from, 1, comm,
-               MPI_STATUS_IGNORE);
+    forEachMpiPiece(size, [&](uint64_t offset, int n) {
+      MPI_Recv(bytes.data() + offset, n, MPI_BYTE, from, 1, comm, MPI_STATUS_IGNORE);
+    });
     NdtMap other = decodeMap(bytes.data(), bytes.size(), "process " + std::to_string(from) +
                                                              "'s part of the map");
     part.absorbBlocks(std::move(other));

@@ -1,8 +1,9 @@
 #include "scan_feed.h"
 
 #include <array>
-#include <climits>
 #include <stdexcept>
+
+#include "mpi_pieces.h"
 
 namespace ndtom::mapper {
 namespace {
@@ -12,11 +13,7 @@ constexpr int kHeader = 3 + 16 + 1 + 1;
 
 void broadcast(void* data, uint64_t bytes, MPI_Comm comm) {
   auto* p = static_cast<char*>(data);
-  for (uint64_t done = 0; done < bytes;) {  // MPI counts are ints
-    const int n = int(std::min<uint64_t>(bytes - done, INT_MAX / 2));
-    MPI_Bcast(p + done, n, MPI_BYTE, 0, comm);
-    done += uint64_t(n);
-  }
+  forEachMpiPiece(bytes, [&](uint64_t offset, int n) { MPI_Bcast(p + offset, n, MPI_BYTE, 0, comm); });
 }
 
 }  // namespace
