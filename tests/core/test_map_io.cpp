@@ -75,11 +75,6 @@ std::string tempPath(const std::string& name) {
 
 }  // namespace
 
-TEST(MapIo, Crc32MatchesTheStandardCheckValue) {
-  const char* text = "123456789";
-  EXPECT_EQ(ndtom::crc32(text, 9), 0xCBF43926u);  // the published CRC-32/IEEE check value
-}
-
 TEST(MapIo, SaveLoadRoundTripIsExact) {
   const NdtMap map = sampleMap();
   ASSERT_GT(map.numGaussians(), 10u);

@@ -184,25 +184,47 @@ void NdtMap::clear() {
   stats_bytes_ = 0;
 }
 
+BlockGrid<MapBlock>::Map::iterator NdtMap::moveBlock(BlockGrid<MapBlock>::Map::iterator it,
+                                                      NdtMap& to) {
+  const size_t cells = it->second->known.count(), bytes = statsBytes(it->second->stats);
+  to.grid_.blocks().emplace(it->first, std::move(it->second));
+  to.num_cells_ += cells;
+  to.stats_bytes_ += bytes;
+  num_cells_ -= cells;
+  stats_bytes_ -= bytes;
+  return grid_.blocks().erase(it);
+}
+
+void NdtMap::finishExtraction(NdtMap& out) {
+  if (out.grid_.size() == 0) return;
+  grid_.blocks().rehash(0);  // the buckets of the blocks that left are memory too
+  touch();
+  out.touch();
+}
+
 NdtMap NdtMap::extractBlocks(const std::function<bool(const CellIndex& block)>& take) {
   NdtMap out(options_);
   auto& blocks = grid_.blocks();
-  for (auto it = blocks.begin(); it != blocks.end();) {
-    if (!take(it->first)) {
-      ++it;
-      continue;
-    }
-    const size_t cells = it->second->known.count(), bytes = statsBytes(it->second->stats);
-    out.grid_.blocks().emplace(it->first, std::move(it->second));
-    out.num_cells_ += cells;
-    out.stats_bytes_ += bytes;
-    num_cells_ -= cells;
-    stats_bytes_ -= bytes;
-    it = blocks.erase(it);
-  }
-  blocks.rehash(0);  // the buckets of the blocks that left are memory too
-  touch();
-  out.touch();
+  for (auto it = blocks.begin(); it != blocks.end();)
+    it = take(it->first) ? moveBlock(it, out) : std::next(it);
+  finishExtraction(out);
+  return out;
+}
+
+NdtMap NdtMap::extractBlockRange(const CellIndex& lo, const CellIndex& hi) {
+  auto inRange = [&](const CellIndex& b) {
+    return b.x >= lo.x && b.x <= hi.x && b.y >= lo.y && b.y <= hi.y && b.z >= lo.z && b.z <= hi.z;
+  };
+  double range_blocks = 1;
+  for (int a = 0; a < 3; ++a) range_blocks *= std::max(0.0, double(hi[a]) - double(lo[a]) + 1);
+  if (range_blocks > double(grid_.size())) return extractBlocks(inRange);
+  NdtMap out(options_);
+  auto& blocks = grid_.blocks();
+  for (int32_t x = lo.x; x <= hi.x; ++x)
+    for (int32_t y = lo.y; y <= hi.y; ++y)
+      for (int32_t z = lo.z; z <= hi.z; ++z)
+        if (auto it = blocks.find(CellIndex{x, y, z}); it != blocks.end()) moveBlock(it, out);
+  finishExtraction(out);
   return out;
 }
 

@@ -1,13 +1,14 @@
 #include "ndtom/out_of_core_map.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 
 #include "ndtom/block_grid.h"
 #include "ndtom/map_io.h"
+#include "spill_codec.h"
 
 namespace ndtom {
 
@@ -29,11 +30,17 @@ OutOfCoreMap::~OutOfCoreMap() {
 
 std::string OutOfCoreMap::spillPath(const CellIndex& t) const {
   return folder_ + "/tile_" + std::to_string(t.x) + "_" + std::to_string(t.y) + "_" +
-         std::to_string(t.z) + ".ndtom";
+         std::to_string(t.z) + ".spill";
 }
 
 Eigen::AlignedBox3d OutOfCoreMap::tileBox(const CellIndex& t) const {
   return tileBoxOf(t, tile_blocks_, resident_.options().resolution);
+}
+
+NdtMap OutOfCoreMap::extractTile(const CellIndex& t) {
+  const CellIndex lo{t.x * tile_blocks_, t.y * tile_blocks_, t.z * tile_blocks_};
+  const CellIndex hi{lo.x + tile_blocks_ - 1, lo.y + tile_blocks_ - 1, lo.z + tile_blocks_ - 1};
+  return resident_.extractBlockRange(lo, hi);
 }
 
 std::set<CellIndex> OutOfCoreMap::tilesMeeting(const Eigen::AlignedBox3d& box) const {
@@ -45,9 +52,17 @@ std::set<CellIndex> OutOfCoreMap::tilesMeeting(const Eigen::AlignedBox3d& box) c
   return out;
 }
 
+NdtMap OutOfCoreMap::readSpilled(const CellIndex& t) const {
+  const std::string path = spillPath(t);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  std::string bytes(in ? size_t(in.tellg()) : 0, '\0');
+  if (!in || !in.seekg(0).read(bytes.data(), std::streamsize(bytes.size())))
+    throw std::runtime_error("cannot read the spill file " + path);
+  return SpillCodec::read(bytes, resident_.options(), path);
+}
+
 void OutOfCoreMap::loadTile(CellIndex t) {  // a copy: t may be a key of spilled_
-  NdtMap tile = loadMap(spillPath(t), std::numeric_limits<uint64_t>::max());
-  resident_.absorbBlocks(std::move(tile));
+  resident_.absorbBlocks(readSpilled(t));
   std::remove(spillPath(t).c_str());
   spilled_.erase(t);
   last_use_[t] = clock_;
@@ -55,14 +70,13 @@ void OutOfCoreMap::loadTile(CellIndex t) {  // a copy: t may be a key of spilled
 }
 
 void OutOfCoreMap::spillTile(CellIndex t) {  // a copy: t may be a key of last_use_
-  NdtMap tile = resident_.extractBlocks(
-      [&](const CellIndex& block) { return tileOfBlock(block, tile_blocks_) == t; });
+  NdtMap tile = extractTile(t);
   last_use_.erase(t);
   if (tile.isEmpty()) return;
   try {
     // Not synced to disk: a spill file lives only as long as this process.
     std::ofstream out(spillPath(t), std::ios::binary | std::ios::trunc);
-    encodeMap(tile, [&](const uint8_t* data, size_t n) {
+    SpillCodec::write(tile, [&](const uint8_t* data, size_t n) {
       out.write(reinterpret_cast<const char*>(data), std::streamsize(n));
     });
     out.close();
@@ -97,13 +111,19 @@ InsertionReport OutOfCoreMap::insertScan(const std::vector<Eigen::Vector3d>& poi
   for (const CellIndex& t : needed)
     if (spilled_.count(t)) loadTile(t);
   const InsertionReport report = resident_.insertScan(points, origin, options);
-  // Every tile holding blocks is known (a scan may have started new ones), and the ones
-  // the scan may have reached are the most recently used.
+  // The tiles the scan may have reached are the most recently used, and any new block is in
+  // one of them: the scan's box, not the whole resident map, says which tiles to note.
   ++clock_;
-  resident_.forEachBlock(
-      [&](const CellIndex& block) { last_use_.try_emplace(tileOfBlock(block, tile_blocks_), clock_); });
-  for (auto& [t, used] : last_use_)
-    if (tileBox(t).intersects(box)) used = clock_;
+  const double edge = tile_blocks_ * kBlockEdge * resident_.options().resolution;
+  CellIndex lo, hi;  // a tile wider than the box's on each side: rounding cannot lose one
+  auto tileAt = [&](double x, int widen) {  // clamped: the map's cells are int32 anyway
+    return int32_t(std::clamp(std::floor(x / edge), -double(1 << 30), double(1 << 30))) + widen;
+  };
+  for (int a = 0; a < 3; ++a) lo[a] = tileAt(box.min()[a], -1), hi[a] = tileAt(box.max()[a], 1);
+  for (int32_t x = lo.x; x <= hi.x; ++x)
+    for (int32_t y = lo.y; y <= hi.y; ++y)
+      for (int32_t z = lo.z; z <= hi.z; ++z)
+        if (const CellIndex t{x, y, z}; tileBox(t).intersects(box)) last_use_[t] = clock_;
   stats_.peak_resident_bytes = std::max(stats_.peak_resident_bytes, resident_.memoryBytes());
   while (resident_.memoryBytes() > budget_) {
     const CellIndex* oldest = nullptr;
@@ -121,11 +141,10 @@ void OutOfCoreMap::forEachTile(const TileSink& visit) {
   for (const auto& [t, used] : last_use_) tiles.insert(t);
   for (const CellIndex& t : tiles) {
     if (spilled_.count(t)) {
-      visit(t, loadMap(spillPath(t), std::numeric_limits<uint64_t>::max()));
+      visit(t, readSpilled(t));
       continue;
     }
-    NdtMap tile = resident_.extractBlocks(
-        [&](const CellIndex& block) { return tileOfBlock(block, tile_blocks_) == t; });
+    NdtMap tile = extractTile(t);
     if (tile.isEmpty()) continue;  // a tile the last scans' boxes met but never filled
     try {
       visit(t, tile);

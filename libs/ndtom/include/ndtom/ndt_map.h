@@ -27,6 +27,7 @@ namespace ndtom {
 
 struct MapBlock;     // src/map_block.h
 struct ScanScratch;  // src/scan_update.h
+struct SpillCodec;   // src/spill_codec.h
 
 /// The covariance a cell's Gaussian carries: the exact sample covariance (Eq. 3), or that
 /// with its eigenvalues floored (MapOptions::regularization), as the likelihood and the
@@ -138,6 +139,9 @@ class NdtMap {
   /// Moves the blocks whose coordinates `take` accepts into a new map with these options:
   /// part of a map kept out of memory (out_of_core_map.h). This map keeps the rest.
   NdtMap extractBlocks(const std::function<bool(const CellIndex& block)>& take);
+  /// extractBlocks for the blocks with coordinates in [lo, hi] on every axis (a tile): looks
+  /// the range's blocks up one by one where that is cheaper than visiting every block.
+  NdtMap extractBlockRange(const CellIndex& lo, const CellIndex& hi);
   /// Moves every block of `other` into this map. Throws std::invalid_argument, moving
   /// nothing, if the resolutions differ or a block is in both.
   void absorbBlocks(NdtMap&& other);
@@ -156,6 +160,7 @@ class NdtMap {
 
  private:
   friend class ScanUpdater;
+  friend struct SpillCodec;
 
   /// The templates above reach the (private) blocks through these: visit(f, cell) per cell.
   using CellCallback = void (*)(void* f, const CellView& cell);
@@ -176,6 +181,9 @@ class NdtMap {
   /// Throws MemoryBudgetError unless `new_blocks` more blocks fit the memory budget.
   void checkRoomForBlocks(size_t new_blocks, const char* what) const;
   void touch();  ///< a new revision()
+  /// Moves one block into `to` (extractBlocks); returns the iterator after it.
+  BlockGrid<MapBlock>::Map::iterator moveBlock(BlockGrid<MapBlock>::Map::iterator it, NdtMap& to);
+  void finishExtraction(NdtMap& out);
 
   MapOptions options_;
   GridGeometry geometry_;

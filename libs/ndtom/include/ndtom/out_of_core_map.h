@@ -58,14 +58,19 @@ class OutOfCoreMap {
   std::string spillPath(const CellIndex& tile) const;
   std::set<CellIndex> tilesMeeting(const Eigen::AlignedBox3d& box) const;
   void loadTile(CellIndex tile);
+  NdtMap readSpilled(const CellIndex& tile) const;
   void spillTile(CellIndex tile);
   Eigen::AlignedBox3d tileBox(const CellIndex& tile) const;
+  /// The resident blocks of a tile, taken out of the resident map.
+  NdtMap extractTile(const CellIndex& tile);
 
   NdtMap resident_;
   uint64_t budget_;
   int tile_blocks_;
   std::string folder_;
-  std::map<CellIndex, uint64_t> last_use_;  ///< resident tiles (some may hold no block)
+  /// Resident tiles and the scan that last used them: every tile holding blocks, and tiles
+  /// a scan's box met that may hold none.
+  std::map<CellIndex, uint64_t> last_use_;
   std::set<CellIndex> spilled_;
   uint64_t clock_ = 0;
   Stats stats_;
