@@ -178,10 +178,16 @@ class alignas(64) ScanCounts {  // one per thread: no shared cache line
 /// It follows the walk incrementally as a block and an offset in it, so a visit is an
 /// increment and leaving a block follows a neighbour link. The state is a few scalars and no
 /// member's address leaves the walker, so the compiler can keep it in registers.
-class CountingWalker {
+/// kUnitWeight: every ray weighs 1 (one ray per point), known at compile time, so the weight
+/// takes no register (with it, the walk spilled it to the stack and loaded it per visit).
+template <bool kUnitWeight>
+class BasicCountingWalker {
  public:
-  explicit CountingWalker(ScanCounts& counts) : counts_(&counts) {}
-  void setWeight(uint32_t w) { weight_ = w; }
+  explicit BasicCountingWalker(ScanCounts& counts) : counts_(&counts) {}
+  void setWeight(uint32_t w) {
+    static_assert(!kUnitWeight, "a unit-weight walker has no weight to set");
+    weight_ = w;
+  }
   size_t visits() const { return visits_; }
 
   void start(const CellIndex& c) {
@@ -209,7 +215,7 @@ class CountingWalker {
   }
 
   bool visit() {
-    block_->count[size_t(offset_)] += weight_;
+    block_->count[size_t(offset_)] += kUnitWeight ? 1 : weight_;
     ++visits_;
     return true;
   }
@@ -235,5 +241,8 @@ class CountingWalker {
   uint32_t weight_ = 1;
   size_t visits_ = 0;
 };
+
+using CountingWalker = BasicCountingWalker<false>;
+using UnitCountingWalker = BasicCountingWalker<true>;
 
 }  // namespace ndtom

@@ -91,22 +91,26 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
       visits[t] = count.visits();
       return;
     }
-    CountingWalker count(out.tables[t]);
-    forEachTake([&](size_t begin, size_t end) {
-      // One call per mode keeps the mode test out of the per-ray loop.
-      if (per_point) {
-        count = walkRays(
-            geometry, origin, begin, end, [&](size_t i, CountingWalker&) { return rayEnd(i); },
-            count);
-      } else {
+    // One walker type and one call per mode keep the mode out of the per-ray loop.
+    if (per_point) {
+      UnitCountingWalker count(out.tables[t]);
+      forEachTake([&](size_t begin, size_t end) {
         count = walkRays(
             geometry, origin, begin, end,
-            [&](size_t i, CountingWalker& walker) {
-              walker.setWeight(groups.groups[i].count);  // one ray per hit group, its weight
-              return &groups.groups[i].mean_end;
-            },
-            count);
-      }
+            [&](size_t i, UnitCountingWalker&) { return rayEnd(i); }, count);
+      });
+      visits[t] = count.visits();
+      return;
+    }
+    CountingWalker count(out.tables[t]);
+    forEachTake([&](size_t begin, size_t end) {
+      count = walkRays(
+          geometry, origin, begin, end,
+          [&](size_t i, CountingWalker& walker) {
+            walker.setWeight(groups.groups[i].count);  // one ray per hit group, its weight
+            return &groups.groups[i].mean_end;
+          },
+          count);
     });
     visits[t] = count.visits();
   });
