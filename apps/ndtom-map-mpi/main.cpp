@@ -14,6 +14,7 @@
 #include "mpi_options.h"
 #include "ndtom_apps/motion_gate.h"
 #include "ndtom_apps/option_values.h"
+#include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"
 #include "oblique_view.h"
@@ -72,6 +73,7 @@ std::string distributedJson(const MpiOptions& o, int ranks, const std::vector<Ra
 
 int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) {
   const auto start = Clock::now();
+  ndtom::apps::keepFreedHeapForReuse();  // as ndtom-map's in-memory build
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);

@@ -33,4 +33,10 @@ bool resetPeakRss() {
   return bool(out) && peakRssBytes() <= currentRssBytes() + (1 << 20);
 }
 
+void keepFreedHeapForReuse() {
+  // glibc's largest mmap threshold (32 MB on 64-bit): buffers below it come from the heap.
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+}
+
 }  // namespace ndtom::apps
