@@ -1,0 +1,49 @@
+// NdtMap::extractBlocks and extractBlockRange (the out-of-core build's tiles): the range form
+// takes exactly what the predicate form takes, by either of its two paths.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <utility>
+#include <vector>
+
+#include "ndtom/ndt_map.h"
+#include "support/map_equality.h"
+
+namespace {
+
+using namespace ndtom;
+
+// The range form looks blocks up one by one when the range is smaller than the map, and visits
+// every block otherwise: both must take what the predicate form takes, nothing more.
+TEST(ExtractBlocks, RangeTakesWhatThePredicateTakes) {
+  NdtMap map;
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int32_t> coord(-60, 60);
+  for (int i = 0; i < 3000; ++i) {
+    const CellStats stats = CellStats::fromPoints(
+        {Eigen::Vector3d(0.01 * (i % 7), 0, 0.02), {-0.01, 0.02, 0}, {0, -0.02, 0.01}});
+    if (i % 3) map.setCell({coord(rng), coord(rng), coord(rng)}, float(i % 5) - 2.0f, {});
+    else map.setCell({coord(rng), coord(rng), coord(rng)}, 1.5f, stats);
+  }
+  size_t blocks = 0;
+  map.forEachBlock([&](const CellIndex&) { ++blocks; });
+  ASSERT_GT(blocks, 500u);
+  const std::vector<std::pair<CellIndex, CellIndex>> ranges = {
+      {{0, 0, 0}, {1, 1, 1}},        // 8 blocks: looked up
+      {{-3, -2, 0}, {2, 3, 1}},      // 72: looked up
+      {{-8, -8, -8}, {8, 8, 8}},     // more than the map holds: visited
+      {{2, 2, 2}, {1, 5, 5}},        // empty
+      {{100, 100, 100}, {101, 101, 101}}};  // nothing there
+  for (const auto& [lo, hi] : ranges) {
+    NdtMap by_range = map, by_predicate = map;
+    const NdtMap taken = by_range.extractBlockRange(lo, hi);
+    const NdtMap expected = by_predicate.extractBlocks([&](const CellIndex& b) {
+      return b.x >= lo.x && b.x <= hi.x && b.y >= lo.y && b.y <= hi.y && b.z >= lo.z && b.z <= hi.z;
+    });
+    ndtom::testing::expectBitIdentical(taken, expected);
+    ndtom::testing::expectBitIdentical(by_range, by_predicate);
+    EXPECT_EQ(taken.numCells() + by_range.numCells(), map.numCells());
+  }
+}
+
+}  // namespace
