@@ -13,13 +13,14 @@
 # temporaries are removed.
 # Usage: scripts/bench-scale.sh [BUILD_DIR (build, a Release build)]
 # Settings (environment): KM_A=1 KM_B=3 STEP_B=2 DRIVE_STEP=6 RES=0.4 TILES=8 RADIUS=50
-# LOC_RANGE=40 MARGIN_B=1 PARTS=ab (a, b or both) RUNS=2 (for a) RUNS_B=1 (for b: its map bytes are the same every run). About
+# LOC_RANGE=40 MARGIN_B=1 MAP_BUDGET_B=4000 (MB, ndtom-map --memory-budget for b's map) PARTS=ab (a, b or both) RUNS=2 (for a) RUNS_B=1 (for b: its map bytes are the same every run). About
 # 20 minutes on 2 busy cores, most of it localizing (0.6-1.5 s a scan).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 km_a=${KM_A:-1} km_b=${KM_B:-3} step_b=${STEP_B:-2} drive_step=${DRIVE_STEP:-6} res=${RES:-0.4} tiles=${TILES:-8}
-radius=${RADIUS:-50} loc_range=${LOC_RANGE:-40} margin_b=${MARGIN_B:-1} runs=${RUNS:-2} runs_b=${RUNS_B:-1}
+radius=${RADIUS:-50} loc_range=${LOC_RANGE:-40} margin_b=${MARGIN_B:-1}
+map_budget_b=${MAP_BUDGET_B:-4000} runs=${RUNS:-2} runs_b=${RUNS_B:-1}
 parts=${PARTS:-ab}
 grep -q 'CMAKE_BUILD_TYPE:STRING=Release' "$build/CMakeCache.txt" ||
   { echo "bench-scale: $build is not a Release build" >&2; exit 1; }
@@ -89,7 +90,9 @@ log "(b) a $km_b km drive for the map (a scan every $step_b m)"
 "$bin/ndtom-worldgen/ndtom-worldgen" "$work/city_b" --km "$km_b" --step "$step_b" --margin "$margin_b" \
   --threads 2 -q
 raise "$work/city_b"
-"$bin/ndtom-map/ndtom-map" "$work/city_b" --resolution "$res" --tiles "$tiles" --no-pictures -q -o "$work/city"
+# The default budget (512 MB) stops a map of over ~4 km.
+"$bin/ndtom-map/ndtom-map" "$work/city_b" --resolution "$res" --tiles "$tiles" --no-pictures -q \
+  --memory-budget "$map_budget_b" -o "$work/city"
 rm -rf "$work/city_b"
 rm -f "$work"/city.3Dscene "$work"/city.ndtommap
 log "(b) the drive to localize: the same streets, a scan every $drive_step m, other noise"
