@@ -6,18 +6,21 @@
 #      KM_A km drive: insertion time per scan, their ratio, peak RSS against the budget, and
 #      the two tiled files compared byte for byte;
 #  (b) ndtom-localize --region-radius through a KM_B km drive (other noise, scans between the
-#      map's) in a tiled map of the same streets: resident map bytes and RSS per km.
+#      map's) in a tiled map of the same streets: resident map bytes and RSS per km. Both
+#      drives keep MARGIN_B rings of blocks between them and the city's edge, so that every
+#      km sees city all round (on the edge streets a third of the region is empty ground).
 # Writes doc/benchmarks/scale.csv and .md (CSV=FILE.csv: FILE.csv and FILE.md); big
 # temporaries are removed.
 # Usage: scripts/bench-scale.sh [BUILD_DIR (build, a Release build)]
 # Settings (environment): KM_A=1 KM_B=3 STEP_B=2 DRIVE_STEP=6 RES=0.4 TILES=8 RADIUS=50
-# LOC_RANGE=40 PARTS=ab (a, b or both) RUNS=2 (for a) RUNS_B=1 (for b: its map bytes are the same every run). About
+# LOC_RANGE=40 MARGIN_B=1 MAP_BUDGET_B=4000 (MB, ndtom-map --memory-budget for b's map) PARTS=ab (a, b or both) RUNS=2 (for a) RUNS_B=1 (for b: its map bytes are the same every run). About
 # 20 minutes on 2 busy cores, most of it localizing (0.6-1.5 s a scan).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 km_a=${KM_A:-1} km_b=${KM_B:-3} step_b=${STEP_B:-2} drive_step=${DRIVE_STEP:-6} res=${RES:-0.4} tiles=${TILES:-8}
-radius=${RADIUS:-50} loc_range=${LOC_RANGE:-40} runs=${RUNS:-2} runs_b=${RUNS_B:-1}
+radius=${RADIUS:-50} loc_range=${LOC_RANGE:-40} margin_b=${MARGIN_B:-1}
+map_budget_b=${MAP_BUDGET_B:-4000} runs=${RUNS:-2} runs_b=${RUNS_B:-1}
 parts=${PARTS:-ab}
 grep -q 'CMAKE_BUILD_TYPE:STRING=Release' "$build/CMakeCache.txt" ||
   { echo "bench-scale: $build is not a Release build" >&2; exit 1; }
@@ -84,13 +87,17 @@ fi
 # --- (b) localization memory per km ------------------------------------------------------
 if [[ $parts == *b* ]]; then
 log "(b) a $km_b km drive for the map (a scan every $step_b m)"
-"$bin/ndtom-worldgen/ndtom-worldgen" "$work/city_b" --km "$km_b" --step "$step_b" --threads 2 -q
+"$bin/ndtom-worldgen/ndtom-worldgen" "$work/city_b" --km "$km_b" --step "$step_b" --margin "$margin_b" \
+  --threads 2 -q
 raise "$work/city_b"
-"$bin/ndtom-map/ndtom-map" "$work/city_b" --resolution "$res" --tiles "$tiles" --no-pictures -q -o "$work/city"
+# The default budget (512 MB) stops a map of over ~4 km.
+"$bin/ndtom-map/ndtom-map" "$work/city_b" --resolution "$res" --tiles "$tiles" --no-pictures -q \
+  --memory-budget "$map_budget_b" -o "$work/city"
 rm -rf "$work/city_b"
 rm -f "$work"/city.3Dscene "$work"/city.ndtommap
 log "(b) the drive to localize: the same streets, a scan every $drive_step m, other noise"
-"$bin/ndtom-worldgen/ndtom-worldgen" "$work/drive" --km "$km_b" --step "$drive_step" --noise-seed 2 --threads 2 -q
+"$bin/ndtom-worldgen/ndtom-worldgen" "$work/drive" --km "$km_b" --step "$drive_step" --noise-seed 2 \
+  --margin "$margin_b" --threads 2 -q
 raise "$work/drive"
 initial=$(head -1 "$work/drive/poses.txt" | python3 -c '
 import sys, math
@@ -136,13 +143,14 @@ EOF
 done
 row b 0 whole_map_mb "$(python3 -c "print($(json "$work/city.summary.json" map map_bytes) / 1e6)")"
 row b 0 map_scans "$(json "$work/city.summary.json" scans_inserted)"
+row b 0 margin_blocks "$margin_b"
 fi
 
 # --- Summary -------------------------------------------------------------------------------
-python3 - "$csv" "$km_a" "$km_b" "$res" "$tiles" "$radius" "$loc_range" <<'EOF' | tee "${csv%.csv}.md"
+python3 - "$csv" "$km_a" "$km_b" "$res" "$tiles" "$radius" "$loc_range" "$margin_b" <<'EOF' | tee "${csv%.csv}.md"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-km_a, km_b, res, tiles, radius, loc_range = sys.argv[2:]
+km_a, km_b, res, tiles, radius, loc_range, margin_b = sys.argv[2:]
 def vals(part, what):
     return [float(r["value"]) for r in rows if r["part"] == part and r["what"] == what]
 def rng(part, what, fmt="{:.1f}"):
@@ -162,7 +170,8 @@ if ratio:
         f"Scans {rng('a', 'scans', '{:.0f}')}; tiles spilled {rng('a', 'ooc_spills', '{:.0f}')} "
         f"({rng('a', 'ooc_spilled_mb', '{:.0f}')} MB), read back {rng('a', 'ooc_loads', '{:.0f}')}; "
         f"tiled files identical: {'yes' if min(vals('a', 'tiled_files_identical')) == 1 else 'NO'}.\n")
-print(f"## Localizing through {km_b} km, --region-radius {radius}, --max-range {loc_range}\n")
+print(f"## Localizing through {km_b} km, --region-radius {radius}, --max-range {loc_range}, "
+      f"drives --margin {margin_b}\n")
 print(f"Whole map {rng('b', 'whole_map_mb', '{:.0f}')} MB ({rng('b', 'map_scans', '{:.0f}')} scans); "
       f"{rng('b', 'scans', '{:.0f}')} scans localized, {rng('b', 'lost', '{:.0f}')} lost, "
       f"median error {rng('b', 'median_error_m', '{:.3f}')} m; most tiles resident "

@@ -12,7 +12,9 @@ constexpr double kTurnRadius = 8.0;  // m: corners are quarter circles, as a car
 
 // The crossings the drive passes, in order: at each, the least-driven street ahead, left or
 // right (never back unless at a dead end), ties broken at random; enough for `length` metres.
-std::vector<Eigen::Vector2i> crossingsFor(const CityLayout& l, double length, uint64_t seed) {
+// Crossings lie in [margin, blocks - margin] on each axis.
+std::vector<Eigen::Vector2i> crossingsFor(const CityLayout& l, double length, uint64_t seed,
+                                          int margin) {
   const Eigen::Vector2i directions[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
   std::map<std::pair<int, int>, int> driven;  // times each street segment was driven
   const auto segment = [](Eigen::Vector2i a, Eigen::Vector2i b) {
@@ -20,7 +22,7 @@ std::vector<Eigen::Vector2i> crossingsFor(const CityLayout& l, double length, ui
     return std::make_pair(std::min(ka, kb), std::max(ka, kb));
   };
   std::mt19937_64 rng(seed);
-  std::vector<Eigen::Vector2i> crossings{{0, 0}};
+  std::vector<Eigen::Vector2i> crossings{{margin, margin}};
   int heading = 0;
   // Rounded corners cut at most 2R - πR/2 = 3.4 m a segment (4 % of one): 10 % more, and one
   // segment more, as the last corner is rounded too.
@@ -31,7 +33,8 @@ std::vector<Eigen::Vector2i> crossingsFor(const CityLayout& l, double length, ui
     for (const int turn : {0, 1, 3}) {
       const int h = (heading + turn) % 4;
       const Eigen::Vector2i next = at + directions[h];
-      if (next.x() < 0 || next.y() < 0 || next.x() > l.blocks_x || next.y() > l.blocks_y)
+      if (next.x() < margin || next.y() < margin || next.x() > l.blocks_x - margin ||
+          next.y() > l.blocks_y - margin)
         continue;
       const int times = driven[segment(at, next)];
       if (best < 0 || times < best_driven || (times == best_driven && rng() % 2 == 0))
@@ -101,7 +104,9 @@ std::vector<Eigen::Isometry3d> driveThrough(const CityWorld& city, const RouteSe
   if (!(r.length > 0) || !(r.step > 0) || !(r.length / r.step < 1e7))
     throw std::invalid_argument("route: length and step must be positive, at most 1e7 steps");
   const CityLayout& l = city.layout();
-  const auto path = smoothPath(crossingsFor(l, r.length, r.seed), l.block_pitch, r.step);
+  if (r.margin < 0 || 2 * r.margin >= std::min(l.blocks_x, l.blocks_y))
+    throw std::invalid_argument("route: the margin must leave at least one block inside");
+  const auto path = smoothPath(crossingsFor(l, r.length, r.seed, r.margin), l.block_pitch, r.step);
   const size_t count = size_t(std::floor(r.length / r.step)) + 1;
   std::vector<Eigen::Isometry3d> poses;
   for (size_t i = 0; i < count && i < path.size(); ++i) {

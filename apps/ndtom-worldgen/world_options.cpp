@@ -41,6 +41,9 @@ WorldOptions parseWorldOptions(int argc, const char* const argv[]) {
                       w.city.blocks_x = w.city.blocks_y = int(parseInteger("--blocks", v, 1, 1000));
                       w.city_size_given = true;
                     }}},
+      {"--margin", {true, [](WorldOptions& w, const std::string& v) {
+                      w.route.margin = int(parseInteger("--margin", v, 0, 1000));
+                    }}},
       {"--seed", {true, [](WorldOptions& w, const std::string& v) {
                     w.city.seed = w.route.seed = w.lidar.seed =
                         uint64_t(parseInteger("--seed", v, 0, INT64_MAX));
@@ -77,7 +80,11 @@ WorldOptions parseWorldOptions(int argc, const char* const argv[]) {
   if (o.route.length / o.route.step > 1e7)
     throw apps::UsageError("--km / --step: over 10 million scans");
   if (!o.city_size_given)
-    o.city.blocks_x = o.city.blocks_y = blocksForRoute(o.route.length, o.city.block_pitch);
+    o.city.blocks_x = o.city.blocks_y =
+        blocksForRoute(o.route.length, o.city.block_pitch) + 2 * o.route.margin;
+  else if (2 * o.route.margin >= o.city.blocks_x)
+    throw apps::UsageError("--margin: leaves no block inside a city of " +
+                           std::to_string(o.city.blocks_x) + " blocks a side");
   return o;
 }
 
@@ -89,7 +96,10 @@ std::string worldHelpText() {
          "options give the same files.\n"
          "  --km L               length driven [km] (2)\n"
          "  --step S             distance between scans [m] (1)\n"
-         "  --blocks N           city blocks per side (default: enough for the drive)\n"
+         "  --blocks N           city blocks per side (default: enough for the drive, plus\n"
+         "                       the margin's)\n"
+         "  --margin N           rings of blocks round the driven streets (0): the drive\n"
+         "                       keeps off the outer streets, city on every side\n"
          "  --seed N             world, route and noise (1)\n"
          "  --noise-seed N       the noise only: another drive of the same streets (--seed)\n"
          "  --rings N            lidar rings, -25..+15 deg (32)\n"

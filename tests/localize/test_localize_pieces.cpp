@@ -1,12 +1,18 @@
 // ndtom-localize's pieces: the constant-velocity prediction against trajectories whose
-// motion is known, and the --initial pose parser.
+// motion is known, the --initial pose parser, and the resident tiles of a region map against
+// the rule computed from the tiles' coordinates.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <set>
 
 #include "localize_options.h"
+#include "mapper/mapper_run.h"
 #include "motion_prediction.h"
+#include "ndtom/tiled_map.h"
 #include "ndtom_apps/option_values.h"
+#include "region_map.h"
 
 using namespace ndtom::localizer;
 using Eigen::Isometry3d;
@@ -21,7 +27,92 @@ Isometry3d motionOf(const Vector3d& t, double angle, const Vector3d& axis) {
   return m;
 }
 
+// A flat map of 0.4 m cells over [0, 96)² m: in each 3.2 m block of the ground, 1 to 30 free
+// cells (so that tiles differ in bytes) and, in one block in three, a Gaussian.
+ndtom::NdtMap groundMap() {
+  ndtom::MapOptions o;
+  o.resolution = 0.4;
+  ndtom::NdtMap map(o);
+  ndtom::CellStats gaussian;
+  gaussian.n = 5;
+  gaussian.scatter = Eigen::Matrix3d::Identity() * 0.01;
+  for (int bx = 0; bx < 30; ++bx)
+    for (int by = 0; by < 30; ++by) {
+      const int cells = 1 + (bx * 7 + by * 13) % 30;
+      for (int i = 0; i < cells; ++i)
+        map.setCell({bx * 8 + i % 8, by * 8 + i / 8, 0}, -0.5f, ndtom::CellStats{});
+      if ((bx + by) % 3 == 0) map.setCell({bx * 8 + 7, by * 8 + 7, 0}, 2.f, gaussian);
+    }
+  map.shrinkToFit();
+  return map;
+}
+
 }  // namespace
+
+// The rule, computed from tile coordinates (tiles of 2 blocks: 6.4 m): a tile is resident if
+// within the radius (x-y) of the position, or resident before and within radius + 6.4 m.
+// Driven twice round a loop, the region holds exactly those tiles' cells, and the second
+// round, where the robot has been before, takes the memory the first took at each place.
+TEST(RegionMap, HoldsTheTilesWithinTheRadiusAndNoMoreOnASecondRound) {
+  const mapper_test::TempDir dir;
+  const ndtom::NdtMap whole = groundMap();
+  const std::string path = (dir / "ground.ndtomtiles").string();
+  ndtom::saveTiledMap(whole, path, 2);
+  const double edge = 6.4, radius = 15;
+  std::map<std::pair<int, int>, size_t> cells_of_tile;  // from the cells, not the file
+  whole.forEachCell([&](const ndtom::CellView& c) {
+    ++cells_of_tile[{int(std::floor(c.index.x / 16.0)), int(std::floor(c.index.y / 16.0))}];
+  });
+  const auto distance = [&](std::pair<int, int> t, const Vector3d& p) {
+    const double dx = std::max({t.first * edge - p.x(), 0.0, p.x() - (t.first + 1) * edge});
+    const double dy = std::max({t.second * edge - p.y(), 0.0, p.y() - (t.second + 1) * edge});
+    return std::hypot(dx, dy);
+  };
+  std::vector<Vector3d> loop;  // a square of side 60 m from (18, 18), every 2 m
+  for (int i = 0; i < 120; ++i) {
+    const double s = 2.0 * (i % 30), side = i / 30;
+    const Vector3d corner[4] = {{18, 18, 1}, {78, 18, 1}, {78, 78, 1}, {18, 78, 1}};
+    const Vector3d along[4] = {{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+    loop.push_back(corner[int(side)] + s * along[int(side)]);
+  }
+  ndtom::localizer::RegionMap region(path, radius);
+  std::set<std::pair<int, int>> expected;
+  std::vector<size_t> first_round_bytes;
+  std::vector<std::set<std::pair<int, int>>> first_round_tiles;
+  size_t compared = 0;
+  for (int round = 0; round < 2; ++round)
+    for (size_t i = 0; i < loop.size(); ++i) {
+      region.keepAround(loop[i]);
+      std::set<std::pair<int, int>> next;
+      for (const auto& [tile, cells] : cells_of_tile)
+        if (distance(tile, loop[i]) <= radius ||
+            (expected.count(tile) && distance(tile, loop[i]) <= radius + edge))
+          next.insert(tile);
+      expected.swap(next);
+      size_t cells = 0;
+      for (const auto& t : expected) cells += cells_of_tile[t];
+      ASSERT_EQ(region.residentTiles(), expected.size()) << round << " " << i;
+      ASSERT_EQ(region.map().numCells(), cells) << round << " " << i;
+      region.map().forEachBlock([&](const ndtom::CellIndex& b) {
+        ASSERT_TRUE(expected.count({int(std::floor(b.x / 2.0)), int(std::floor(b.y / 2.0))}))
+            << round << " " << i << ": block " << b.x << " " << b.y;
+      });
+      // Where the same tiles are resident (not at the start: the first round began with
+      // none), the same bytes; the hash table's buckets may differ with its history.
+      if (round == 0) {
+        first_round_bytes.push_back(region.map().memoryBytes());
+        first_round_tiles.push_back(expected);
+      } else if (expected == first_round_tiles[i]) {
+        ++compared;
+        EXPECT_NEAR(double(region.map().memoryBytes()), double(first_round_bytes[i]),
+                    0.02 * double(first_round_bytes[i]))
+            << i;
+      }
+    }
+  EXPECT_GT(compared, loop.size() / 2);
+  EXPECT_GT(region.drops(), 0u);
+  EXPECT_LT(region.residentTiles(), cells_of_tile.size());
+}
 
 TEST(MotionPrediction, ConstantVelocityContinuesAConstantMotion) {
   // A robot repeating one motion every 0.5 s is predicted exactly; with a step of 1 s the

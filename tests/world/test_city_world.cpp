@@ -134,6 +134,52 @@ TEST(CityRoute, DrivesOnTheStreetsStepByStepThroughNewStreets) {
   EXPECT_THROW(driveThrough(city, RouteSettings{0, 1, 1.8, 1}), std::invalid_argument);
 }
 
+// With a margin the drive is the one of the inner city (margin 0, 2·margin fewer blocks),
+// moved by margin blocks: every street it drives has city on every side.
+TEST(CityRoute, MarginKeepsTheDriveOnTheInnerStreets) {
+  RouteSettings r;
+  r.length = 3000;
+  r.step = 3;
+  CityLayout inner;
+  inner.blocks_x = inner.blocks_y = blocksForRoute(r.length, inner.block_pitch);
+  const auto expected = driveThrough(CityWorld(inner), r);
+  for (const int margin : {1, 2}) {
+    CityLayout l = inner;
+    l.blocks_x = l.blocks_y = inner.blocks_x + 2 * margin;
+    r.margin = margin;
+    const auto poses = driveThrough(CityWorld(l), r);
+    ASSERT_EQ(poses.size(), expected.size());
+    const double shift = margin * l.block_pitch, far = (l.blocks_x - margin) * l.block_pitch;
+    for (size_t i = 0; i < poses.size(); ++i) {
+      const Eigen::Vector3d p = poses[i].translation();
+      EXPECT_LT((p - expected[i].translation() - Eigen::Vector3d(shift, shift, 0)).norm(), 1e-9)
+          << margin << " " << i;
+      EXPECT_LT((poses[i].linear() - expected[i].linear()).norm(), 1e-12) << margin << " " << i;
+      EXPECT_TRUE(p.x() >= shift - 1e-9 && p.y() >= shift - 1e-9 && p.x() <= far + 1e-9 &&
+                  p.y() <= far + 1e-9)
+          << margin << " " << i << ": " << p.transpose();
+    }
+  }
+  CityLayout small = inner;
+  small.blocks_x = small.blocks_y = 2;
+  r.margin = 1;
+  EXPECT_THROW(driveThrough(CityWorld(small), r), std::invalid_argument);
+  r.margin = -1;
+  EXPECT_THROW(driveThrough(CityWorld(inner), r), std::invalid_argument);
+}
+
+TEST(WorldOptions, MarginAddsItsBlocksToTheCity) {
+  const char* with_margin[] = {"ndtom-worldgen", "out", "--km", "3", "--margin", "2"};
+  const WorldOptions o = parseWorldOptions(6, with_margin);
+  EXPECT_EQ(o.route.margin, 2);
+  EXPECT_EQ(o.city.blocks_x, blocksForRoute(3000, o.city.block_pitch) + 4);
+  EXPECT_EQ(o.city.blocks_y, o.city.blocks_x);
+  const char* too_small[] = {"ndtom-worldgen", "out", "--blocks", "2", "--margin", "1"};
+  EXPECT_ANY_THROW(parseWorldOptions(6, too_small));
+  const char* negative[] = {"ndtom-worldgen", "out", "--margin", "-1"};
+  EXPECT_ANY_THROW(parseWorldOptions(4, negative));
+}
+
 TEST(SimulatedLidar, PointsLieOnTheSurfacesAndRepeatPerScanIndex) {
   const CityWorld city(smallCity());
   RouteSettings r;
