@@ -86,16 +86,38 @@ struct CellVisitorWalker {
   bool visit() { return visitor(static_cast<const CellIndex&>(cell)); }
 };
 
+/// What the walk of [from, to] computes once per ray, whichever cell it starts from (a
+/// distributed build resumes one ray's walk several times).
+struct RaySteps {
+  CellIndex last;  ///< the cell of `to`
+  int32_t step[3], up[3];
+  double inv[3];  ///< 1 / (to - from) per axis, 0 where the ray does not move
+
+  RaySteps(const GridGeometry& geometry, const Eigen::Vector3d& from, const Eigen::Vector3d& to)
+      : last(geometry.cellOf(to)) {
+    for (int a = 0; a < 3; ++a) {
+      const double delta = to[a] - from[a];
+      step[a] = delta > 0 ? 1 : (delta < 0 ? -1 : 0);
+      up[a] = delta > 0 ? 1 : 0;
+      inv[a] = delta != 0 ? 1.0 / delta : 0.0;
+    }
+  }
+};
+
 /// The walk of [from, to] from `first`, a cell it passes through, to its end or to the last
 /// crossing at a time t <= t_end (<= 1), whichever comes first. The walk's next step depends
 /// only on its current cell (crossing times come from boundary indices, not accumulated), so
-/// a walk resumed at a cell continues exactly as the walk from `from` would.
-template <class Walker>
-[[gnu::always_inline]] inline void walkSegmentFrom(const GridGeometry& geometry,
+/// a walk resumed at a cell continues exactly as the walk from `from` would. With kGiven,
+/// `ray` is RaySteps(geometry, from, to), computed once for several resumes (same values, so
+/// the same walk); without, they are computed here (`ray` unused: the serial walk's code
+/// stays as it was, measured fastest).
+template <bool kGiven, class Walker>
+[[gnu::always_inline]] inline void walkSegmentImpl(const GridGeometry& geometry,
                                                    const Eigen::Vector3d& from,
-                                                   const Eigen::Vector3d& to, const CellIndex& first,
-                                                   double t_end, Walker& walker) {
-  const CellIndex last = geometry.cellOf(to);
+                                                   const Eigen::Vector3d& to, const RaySteps* ray,
+                                                   const CellIndex& first, double t_end,
+                                                   Walker& walker) {
+  const CellIndex last = kGiven ? ray->last : geometry.cellOf(to);
   if (first == last) return;
   walker.start(first);
 
@@ -105,12 +127,18 @@ template <class Walker>
   int32_t step[3], up[3];
   double inv[3], t_next[3];
   for (int a = 0; a < 3; ++a) {
-    const double delta = to[a] - from[a];
-    step[a] = delta > 0 ? 1 : (delta < 0 ? -1 : 0);
-    up[a] = delta > 0 ? 1 : 0;
-    inv[a] = delta != 0 ? 1.0 / delta : 0.0;
-    t_next[a] =
-        delta != 0 ? crossingTime(geometry.cellMin(cell[a] + up[a]), from[a], inv[a]) : kNever;
+    if constexpr (kGiven) {
+      step[a] = ray->step[a], up[a] = ray->up[a], inv[a] = ray->inv[a];
+      t_next[a] = step[a] != 0 ? crossingTime(geometry.cellMin(cell[a] + up[a]), from[a], inv[a])
+                               : kNever;
+    } else {
+      const double delta = to[a] - from[a];
+      step[a] = delta > 0 ? 1 : (delta < 0 ? -1 : 0);
+      up[a] = delta > 0 ? 1 : 0;
+      inv[a] = delta != 0 ? 1.0 / delta : 0.0;
+      t_next[a] =
+          delta != 0 ? crossingTime(geometry.cellMin(cell[a] + up[a]), from[a], inv[a]) : kNever;
+    }
   }
   // Index of the next boundary on each axis, kept as a double: integers are exact there, and
   // the crossing time needs it as a double anyway (one conversion less per step).
@@ -185,6 +213,24 @@ template <class Walker>
     }
     if (--remaining <= 0) return;
   }
+}
+
+template <class Walker>
+[[gnu::always_inline]] inline void walkSegmentFrom(const GridGeometry& geometry,
+                                                   const Eigen::Vector3d& from,
+                                                   const Eigen::Vector3d& to, const CellIndex& first,
+                                                   double t_end, Walker& walker) {
+  walkSegmentImpl<false>(geometry, from, to, nullptr, first, t_end, walker);
+}
+
+/// walkSegmentFrom with the ray's RaySteps computed once by the caller.
+template <class Walker>
+[[gnu::always_inline]] inline void walkSegmentFrom(const GridGeometry& geometry,
+                                                   const Eigen::Vector3d& from,
+                                                   const Eigen::Vector3d& to, const RaySteps& ray,
+                                                   const CellIndex& first, double t_end,
+                                                   Walker& walker) {
+  walkSegmentImpl<true>(geometry, from, to, &ray, first, t_end, walker);
 }
 
 template <class Walker>
