@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -68,6 +70,11 @@ class OwnedRayWalk {
     }
     return cached_owned_;
   }
+  /// The cell after the resume cell if the walk enters the stretch by one step there, else
+  /// the resume cell.
+  static CellIndex firstOwnedCell(const GridGeometry& geometry, const Eigen::Vector3d& from,
+                                  const detail::RaySteps& ray, const Stretch& s);
+  static constexpr int kJoinCells = 8;
   std::vector<Stretch> stretches_;
   CellIndex cached_tile_;
   TileOwnership cached_for_{1, 0, 0};  // matches no real ownership
@@ -77,6 +84,16 @@ class OwnedRayWalk {
 // --- Implementation --------------------------------------------------------------------
 
 namespace detail {
+
+/// The largest double below t, for crossing times (t >= 0): std::nextafter without the call.
+inline double justBelow(double t) {
+  if (t == 0) return -std::numeric_limits<double>::denorm_min();
+  uint64_t bits;
+  std::memcpy(&bits, &t, sizeof bits);
+  --bits;
+  std::memcpy(&t, &bits, sizeof bits);
+  return t;
+}
 
 /// The walk's cell once every crossing earlier than t is done (a cell it passes through, as
 /// crossings happen in time order). Each axis moves on its own: it has crossed exactly the
@@ -210,6 +227,22 @@ inline void OwnedRayWalk::walkOne(const GridGeometry& geometry, const Eigen::Vec
   if (open) stretches_.push_back({t_in, kInf, first});
   if (stretches_.empty()) return;
 
+  // A resume costs about as much as walking kJoinCells cells: shorter gaps of other tiles
+  // (and a short start from the sensor) are walked through, their counts dropped later like
+  // the stretch ends'. The owned cells are visited once either way.
+  const double gap_cells = double(kJoinCells) / double(std::abs(int64_t(last.x) - first.x) +
+                                                       std::abs(int64_t(last.y) - first.y) +
+                                                       std::abs(int64_t(last.z) - first.z));
+  if (stretches_[0].t_in < gap_cells) stretches_[0].t_in = -kInf;
+  size_t kept = 0;
+  for (size_t k = 1; k < stretches_.size(); ++k) {
+    if (stretches_[k].t_in - stretches_[kept].t_out < gap_cells)
+      stretches_[kept].t_out = stretches_[k].t_out;
+    else
+      stretches_[++kept] = stretches_[k];
+  }
+  stretches_.resize(kept + 1);
+
   // Where each stretch resumes: in the tile before it, not owned (else the stretches would
   // have been joined). If any cannot resume, the whole walk (the walker filters it).
   bool resumable = true;
@@ -222,8 +255,35 @@ inline void OwnedRayWalk::walkOne(const GridGeometry& geometry, const Eigen::Vec
   }
   for (const Stretch& s : stretches_) {
     if (s.resume == last) break;  // the walk ended before this stretch
-    detail::walkSegmentFrom(geometry, from, to, ray, s.resume, std::min(s.t_out, 1.0), walker);
+    // The stretch's own cells only, where that is the walk's: a step along one axis alone at
+    // t_in enters it (the cell before is another process's), and one at t_out leaves it (the
+    // tile axis alone crosses then, into another process's tile). Ties keep the cells around
+    // them, as the walk's corner rule decides what is touched there.
+    const CellIndex start = s.t_in == -kInf ? s.resume : firstOwnedCell(geometry, from, ray, s);
+    const bool ends = s.t_out <= 1.0;
+    detail::walkSegmentFrom(geometry, from, to, ray, start, ends ? s.t_out : 1.0,
+                            ends ? detail::justBelow(s.t_out) : 1.0, s.t_in != -kInf, walker);
   }
+}
+
+inline CellIndex OwnedRayWalk::firstOwnedCell(const GridGeometry& geometry,
+                                              const Eigen::Vector3d& from,
+                                              const detail::RaySteps& ray, const Stretch& s) {
+  // The walk's next crossing times from the resume cell, as the walk computes them.
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double t[3];
+  for (int a = 0; a < 3; ++a)
+    t[a] = ray.step[a] != 0
+               ? crossingTime(geometry.cellMin(s.resume[a] + ray.up[a]), from[a], ray.inv[a])
+               : kInf;
+  const int a = t[0] < t[1] ? (t[0] < t[2] ? 0 : 2) : (t[1] < t[2] ? 1 : 2);
+  const bool alone = t[a] < t[(a + 1) % 3] && t[a] < t[(a + 2) % 3];
+  // Moving towards the end cell on that axis, so the step count from there is the walk's.
+  if (!alone || !(t[a] == s.t_in) || !(t[a] < s.t_out)) return s.resume;
+  if (s.resume[a] == ray.last[a]) return s.resume;
+  CellIndex c = s.resume;
+  c[a] += ray.step[a];
+  return c;
 }
 
 }  // namespace ndtom
