@@ -27,6 +27,7 @@ struct RecordingWalker {
   std::map<CellIndex, int>* visited;
   CellIndex cell{};
   size_t steps = 0;
+  size_t foreign = 0;  ///< visits of other processes' cells
 
   void start(const CellIndex& c) { cell = c; }
   template <int Axis>
@@ -35,7 +36,10 @@ struct RecordingWalker {
     ++steps;
   }
   bool visit() {
-    if (owned->ownsBlock(ndtom::blockOf(cell))) ++(*visited)[cell];
+    if (owned->ownsBlock(ndtom::blockOf(cell)))
+      ++(*visited)[cell];
+    else
+      ++foreign;
     return true;
   }
 };
@@ -137,6 +141,31 @@ TEST(OwnedRayWalk, RanksJumpOverOtherRanksTiles) {
     // not much more than the serial walk.
     EXPECT_LT(steps, serial_steps * 5 / 4) << ranks << " ranks";
     EXPECT_GT(steps, serial_steps / 2) << ranks << " ranks";
+  }
+}
+
+TEST(OwnedRayWalk, StretchesEnteredAndLeftAlongOneAxisVisitOnlyTheirOwnCells) {
+  // Along x, off every other boundary: each stretch is entered and left by a step of x
+  // alone, so it starts at its first cell and stops at its last. Tiles of 16 cells, and the
+  // ray starts at a tile's first cell: every gap is a whole tile, longer than the walk ever
+  // joins. All ranks together then visit exactly the serial walk's cells, none twice.
+  const GridGeometry g(0.2);
+  const Eigen::Vector3d from(0.05, 0.07, 0.03), to(80.05, 0.07, 0.03);
+  const auto serial = serialWalk(g, from, to);
+  for (const int ranks : {2, 3}) {
+    std::map<CellIndex, int> cells;
+    size_t foreign = 0, visits = 0;
+    ndtom::OwnedRayWalk walk;
+    for (int rank = 0; rank < ranks; ++rank) {
+      const TileOwnership owned{2, rank, ranks};
+      RecordingWalker w{&owned, &cells};
+      walk.walk(g, from, to, owned, w);
+      foreign += w.foreign;
+    }
+    for (const auto& [cell, n] : cells) visits += size_t(n);
+    EXPECT_EQ(cells, serial) << ranks << " ranks";
+    EXPECT_EQ(foreign, 0u) << ranks << " ranks";
+    EXPECT_EQ(visits, serial.size()) << ranks << " ranks";
   }
 }
 

@@ -200,6 +200,14 @@ class BasicCountingWalker {
     offset_ = offsetInBlock(c);
   }
 
+  /// start() for a walk resumed mid-ray (a distributed build's process): the rays' start
+  /// block stays cached for the next ray.
+  void resume(const CellIndex& c) {
+    const CellIndex b = blockOf(c);
+    if (!block_ || b != block_->index) block_ = lookUp(counts_, b.x, b.y, b.z);
+    offset_ = offsetInBlock(c);
+  }
+
   template <int Axis>
   void move(int32_t step) {
     constexpr int32_t kMask = (kBlockEdge - 1) << (Axis * kBlockLog2);  // x fastest

@@ -27,7 +27,9 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
   // Nothing below touches the map until applyToMap(), which cannot fail half-way.
   try {
     classifyPoints(scan, points, s_.points, report);
-    sortRayEnds(scan, s_.points, s_.ray_ends);
+    // Per-point rays need no groups: a process sorts and groups only its tiles' hits (the
+    // per-hit-cell mode casts a ray per group, so there every process groups every end).
+    sortRayEnds(scan, s_.points, ray_per_group ? nullptr : owned_, s_.ray_ends);
     groupEnds(scan, s_.points, s_.ray_ends, ray_per_group ? GroupMeans::Compute : GroupMeans::Skip,
               s_.groups, report);
     if (owned_) dropHitsOutside(*owned_);
@@ -49,6 +51,7 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
 
 void ScanUpdater::dropHitsOutside(const TileOwnership& owned) {
   // Other processes update these cells; the groups stay, as per-hit-cell rays start from them.
+  // (With per-point rays only owned hits were grouped: nothing to drop.)
   std::vector<HitBlock>& hits = s_.groups.hit_blocks;
   hits.erase(std::remove_if(hits.begin(), hits.end(),
                             [&](const HitBlock& h) {

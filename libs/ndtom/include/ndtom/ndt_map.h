@@ -68,8 +68,10 @@ class NdtMap {
   /// insertScan for one process of a distributed build: changes only the cells of the tiles
   /// `owned` owns, exactly as insertScan would change them (no other cell changes), walking
   /// only the rays' stretches through those tiles. Processes that own disjoint tiles and each
-  /// insert every scan in the same order together hold the serial map, bit for bit. Throws
-  /// std::invalid_argument for an invalid ownership, as insertScan otherwise.
+  /// insert every scan in the same order together hold the serial map, bit for bit. The
+  /// report's point counts are the scan's; its cell counts are of the owned tiles (with
+  /// per-point rays cells_hit too). Throws std::invalid_argument for an invalid ownership, as
+  /// insertScan otherwise.
   InsertionReport insertScanPart(const std::vector<Eigen::Vector3d>& points,
                                  const Eigen::Vector3d& sensor_origin,
                                  const InsertOptions& options, const TileOwnership& owned);

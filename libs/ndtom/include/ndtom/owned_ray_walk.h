@@ -6,6 +6,9 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -26,7 +29,36 @@ class OwnedRayWalk {
   void walk(const GridGeometry& geometry, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
             const TileOwnership& owned, Walker& walker);
 
+  /// walk() for many rays from one origin, as walkRays() in ray_dda.h: for i in [begin, end),
+  /// the ray to *rayEnd(i, walker), skipping nullptr. The walker stays in registers from ray
+  /// to ray, and the origin's cell and tile are found once.
+  template <class Walker, class RayEnd>
+  Walker walkRays(const GridGeometry& geometry, const Eigen::Vector3d& from, size_t begin,
+                  size_t end, const TileOwnership& owned, RayEnd&& rayEnd, Walker walker);
+
  private:
+  /// What every ray from one origin shares.
+  struct Origin {
+    CellIndex cell, tile;
+    int32_t edge;  ///< tile edge in cells
+    int shift;     ///< log2(edge) for power-of-two edges, else -1
+    int32_t tileOf(int32_t c) const { return shift >= 0 ? c >> shift : floorDiv(c, edge); }
+  };
+  static Origin originOf(const GridGeometry& geometry, const Eigen::Vector3d& from,
+                         const TileOwnership& owned) {
+    Origin o;
+    o.cell = geometry.cellOf(from);
+    o.edge = owned.tileCells();
+    o.shift = (o.edge & (o.edge - 1)) == 0 ? __builtin_ctz(uint32_t(o.edge)) : -1;
+    o.tile = {o.tileOf(o.cell.x), o.tileOf(o.cell.y), o.tileOf(o.cell.z)};
+    return o;
+  }
+  template <class Walker>
+  [[gnu::always_inline]] inline void walkOne(const GridGeometry& geometry,
+                                             const Eigen::Vector3d& from, const Origin& origin,
+                                             const Eigen::Vector3d& to, const TileOwnership& owned,
+                                             Walker& walker);
+
   struct Stretch {       // of consecutive owned tiles
     double t_in, t_out;  ///< entered at t_in (-inf: at the start), left at t_out (+inf: never)
     CellIndex resume;    ///< the walk's cell after every crossing before t_in
@@ -38,6 +70,11 @@ class OwnedRayWalk {
     }
     return cached_owned_;
   }
+  /// The cell after the resume cell if the walk enters the stretch by one step there, else
+  /// the resume cell.
+  static CellIndex firstOwnedCell(const GridGeometry& geometry, const Eigen::Vector3d& from,
+                                  const detail::RaySteps& ray, const Stretch& s);
+  static constexpr int kJoinCells = 8;
   std::vector<Stretch> stretches_;
   CellIndex cached_tile_;
   TileOwnership cached_for_{1, 0, 0};  // matches no real ownership
@@ -48,25 +85,36 @@ class OwnedRayWalk {
 
 namespace detail {
 
+/// The largest double below t, for crossing times (t >= 0): std::nextafter without the call.
+inline double justBelow(double t) {
+  if (t == 0) return -std::numeric_limits<double>::denorm_min();
+  uint64_t bits;
+  std::memcpy(&bits, &t, sizeof bits);
+  --bits;
+  std::memcpy(&t, &bits, sizeof bits);
+  return t;
+}
+
 /// The walk's cell once every crossing earlier than t is done (a cell it passes through, as
 /// crossings happen in time order). Each axis moves on its own: it has crossed exactly the
 /// boundaries whose crossing time, by the walk's own formula, is below t. False if an axis
-/// went past `last` by then (a ray end within rounding of a boundary): the walk from there
-/// would not match its remaining-step count.
+/// went past `ray.last` by then (a ray end within rounding of a boundary): the walk from
+/// there would not match its remaining-step count. `ray` must be RaySteps(geometry, from, to).
 inline bool cellBefore(const GridGeometry& geometry, const Eigen::Vector3d& from,
-                       const Eigen::Vector3d& to, const CellIndex& first, const CellIndex& last,
+                       const Eigen::Vector3d& to, const RaySteps& ray, const CellIndex& first,
                        double t, CellIndex& out) {
-  const double r = geometry.resolution();
+  const double r = geometry.resolution(), inv_r = geometry.invResolution();
+  const CellIndex& last = ray.last;
   for (int a = 0; a < 3; ++a) {
-    const double delta = to[a] - from[a];
     int32_t c = first[a];
-    if (delta != 0) {
-      const double inv = 1.0 / delta;
-      // Near the answer (corrected below); cast and adjust: std::floor is a call on baseline x86-64.
-      const double scaled = (from[a] + t * delta) / r;
+    if (ray.step[a] != 0) {
+      const double inv = ray.inv[a];
+      // Near the answer (only a start: corrected below, so a product is as good as the
+      // division); cast and adjust: std::floor is a call on baseline x86-64.
+      const double scaled = (from[a] + t * (to[a] - from[a])) * inv_r;
       const double guess = double(int32_t(scaled) - (scaled < double(int32_t(scaled))));
       auto crossing = [&](int32_t boundary) { return crossingTime(double(boundary) * r, from[a], inv); };
-      if (delta > 0) {  // leaves cell c at boundary c + 1
+      if (ray.step[a] > 0) {  // leaves cell c at boundary c + 1
         c = int32_t(std::clamp(guess, double(first[a]), double(last[a])));
         while (c > first[a] && crossing(c) >= t) --c;
         while (crossing(c + 1) < t) ++c;
@@ -88,48 +136,63 @@ inline bool cellBefore(const GridGeometry& geometry, const Eigen::Vector3d& from
 template <class Walker>
 void OwnedRayWalk::walk(const GridGeometry& geometry, const Eigen::Vector3d& from,
                         const Eigen::Vector3d& to, const TileOwnership& owned, Walker& walker) {
-  const CellIndex first = geometry.cellOf(from), last = geometry.cellOf(to);
+  Walker local(std::move(walker));
+  walkOne(geometry, from, originOf(geometry, from, owned), to, owned, local);
+  walker = std::move(local);
+}
+
+template <class Walker, class RayEnd>
+Walker OwnedRayWalk::walkRays(const GridGeometry& geometry, const Eigen::Vector3d& from,
+                              size_t begin, size_t end, const TileOwnership& owned,
+                              RayEnd&& rayEnd, Walker walker) {
+  const Origin origin = originOf(geometry, from, owned);
+  Walker local(std::move(walker));
+  for (size_t i = begin; i < end; ++i)
+    if (const Eigen::Vector3d* to = rayEnd(i, local))
+      walkOne(geometry, from, origin, *to, owned, local);
+  return Walker(std::move(local));
+}
+
+template <class Walker>
+inline void OwnedRayWalk::walkOne(const GridGeometry& geometry, const Eigen::Vector3d& from,
+                                  const Origin& origin, const Eigen::Vector3d& to,
+                                  const TileOwnership& owned, Walker& walker) {
+  const CellIndex& first = origin.cell;
+  const CellIndex last = geometry.cellOf(to);
   if (first == last) return;
-  const int32_t edge = owned.tileCells();
-  auto tileOf = [&](int32_t cell) {  // a shift for the usual power-of-two tiles
-    return (edge & (edge - 1)) == 0 ? cell >> __builtin_ctz(uint32_t(edge)) : floorDiv(cell, edge);
-  };
-  CellIndex tile{tileOf(first.x), tileOf(first.y), tileOf(first.z)};
+  const int32_t edge = origin.edge;
+  CellIndex tile = origin.tile;
 
   // Most rays end in the tile they start in: then no crossing time is needed, unless the
   // ray's end cell lies on the face of the tile it moves towards (where rounding may let the
   // walk step one cell past it).
   bool one_tile = true;
   for (int a = 0; a < 3 && one_tile; ++a) {
-    const int32_t end = last[a], end_tile = tileOf(end), offset = end - end_tile * edge;
+    const int32_t end = last[a], end_tile = origin.tileOf(end), offset = end - end_tile * edge;
     const double delta = to[a] - from[a];
     one_tile = end_tile == tile[a] && !(delta > 0 && offset == edge - 1) && !(delta < 0 && offset == 0);
   }
   if (one_tile) {
-    if (ownsTile(owned, tile)) {
-      Walker local(std::move(walker));
-      detail::walkSegmentFrom(geometry, from, to, first, 1.0, local);
-      walker = std::move(local);
-    }
+    if (ownsTile(owned, tile))
+      detail::walkSegmentFrom(geometry, from, to, first, 1.0, walker);
     return;
   }
 
   const double r = geometry.resolution();
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  const detail::RaySteps ray(geometry, from, to);  // once for the tiles and every stretch
 
   // The walk at the scale of tiles: the same crossing times (computed from the same boundary
   // indices), the same order (at equal times up-steps first), gathered into stretches of owned
   // tiles. Stretches that touch are joined: each crossing time then belongs to one stretch at
   // most, so no cell is visited twice.
-  int32_t step[3], boundary[3];  // the next tile boundary, in tiles
-  double inv[3], t_next[3];
+  int32_t boundary[3];  // the next tile boundary, in tiles
+  double t_next[3];
   for (int a = 0; a < 3; ++a) {
-    const double delta = to[a] - from[a];
-    step[a] = delta > 0 ? 1 : (delta < 0 ? -1 : 0);
-    inv[a] = delta != 0 ? 1.0 / delta : 0.0;
-    boundary[a] = tile[a] + (delta > 0);
-    t_next[a] = delta != 0 ? crossingTime(double(int64_t(boundary[a]) * edge) * r, from[a], inv[a])
-                           : kInf;
+    boundary[a] = tile[a] + ray.up[a];
+    t_next[a] = ray.step[a] != 0
+                    ? crossingTime(double(int64_t(boundary[a]) * edge) * r, from[a], ray.inv[a])
+                    : kInf;
   }
   stretches_.clear();
   bool here = ownsTile(owned, tile);  // the current tile is owned
@@ -142,10 +205,10 @@ void OwnedRayWalk::walk(const GridGeometry& geometry, const Eigen::Vector3d& fro
     for (const int direction : {1, -1}) {
       bool moved_now = false;
       for (int a = 0; a < 3; ++a) {
-        if (t_next[a] != t || step[a] != direction) continue;
+        if (t_next[a] != t || ray.step[a] != direction) continue;
         tile[a] += direction;
         boundary[a] += direction;
-        t_next[a] = crossingTime(double(int64_t(boundary[a]) * edge) * r, from[a], inv[a]);
+        t_next[a] = crossingTime(double(int64_t(boundary[a]) * edge) * r, from[a], ray.inv[a]);
         moved_now = true;
       }
       if (moved_now && moved) owned_on_the_way = here;  // the tile between up- and down-steps
@@ -164,23 +227,63 @@ void OwnedRayWalk::walk(const GridGeometry& geometry, const Eigen::Vector3d& fro
   if (open) stretches_.push_back({t_in, kInf, first});
   if (stretches_.empty()) return;
 
+  // A resume costs about as much as walking kJoinCells cells: shorter gaps of other tiles
+  // (and a short start from the sensor) are walked through, their counts dropped later like
+  // the stretch ends'. The owned cells are visited once either way.
+  const double gap_cells = double(kJoinCells) / double(std::abs(int64_t(last.x) - first.x) +
+                                                       std::abs(int64_t(last.y) - first.y) +
+                                                       std::abs(int64_t(last.z) - first.z));
+  if (stretches_[0].t_in < gap_cells) stretches_[0].t_in = -kInf;
+  size_t kept = 0;
+  for (size_t k = 1; k < stretches_.size(); ++k) {
+    if (stretches_[k].t_in - stretches_[kept].t_out < gap_cells)
+      stretches_[kept].t_out = stretches_[k].t_out;
+    else
+      stretches_[++kept] = stretches_[k];
+  }
+  stretches_.resize(kept + 1);
+
   // Where each stretch resumes: in the tile before it, not owned (else the stretches would
   // have been joined). If any cannot resume, the whole walk (the walker filters it).
-  // A local walker, not the reference: its state can live in registers during the walk.
-  Walker local(std::move(walker));
   bool resumable = true;
   for (Stretch& s : stretches_)
     if (s.t_in != -kInf)
-      resumable = resumable && detail::cellBefore(geometry, from, to, first, last, s.t_in, s.resume);
+      resumable = resumable && detail::cellBefore(geometry, from, to, ray, first, s.t_in, s.resume);
   if (!resumable) {
-    detail::walkSegmentFrom(geometry, from, to, first, 1.0, local);
-  } else {
-    for (const Stretch& s : stretches_) {
-      if (s.resume == last) break;  // the walk ended before this stretch
-      detail::walkSegmentFrom(geometry, from, to, s.resume, std::min(s.t_out, 1.0), local);
-    }
+    stretches_.clear();
+    stretches_.push_back({-kInf, kInf, first});
   }
-  walker = std::move(local);
+  for (const Stretch& s : stretches_) {
+    if (s.resume == last) break;  // the walk ended before this stretch
+    // The stretch's own cells only, where that is the walk's: a step along one axis alone at
+    // t_in enters it (the cell before is another process's), and one at t_out leaves it (the
+    // tile axis alone crosses then, into another process's tile). Ties keep the cells around
+    // them, as the walk's corner rule decides what is touched there.
+    const CellIndex start = s.t_in == -kInf ? s.resume : firstOwnedCell(geometry, from, ray, s);
+    const bool ends = s.t_out <= 1.0;
+    detail::walkSegmentFrom(geometry, from, to, ray, start, ends ? s.t_out : 1.0,
+                            ends ? detail::justBelow(s.t_out) : 1.0, s.t_in != -kInf, walker);
+  }
+}
+
+inline CellIndex OwnedRayWalk::firstOwnedCell(const GridGeometry& geometry,
+                                              const Eigen::Vector3d& from,
+                                              const detail::RaySteps& ray, const Stretch& s) {
+  // The walk's next crossing times from the resume cell, as the walk computes them.
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double t[3];
+  for (int a = 0; a < 3; ++a)
+    t[a] = ray.step[a] != 0
+               ? crossingTime(geometry.cellMin(s.resume[a] + ray.up[a]), from[a], ray.inv[a])
+               : kInf;
+  const int a = t[0] < t[1] ? (t[0] < t[2] ? 0 : 2) : (t[1] < t[2] ? 1 : 2);
+  const bool alone = t[a] < t[(a + 1) % 3] && t[a] < t[(a + 2) % 3];
+  // Moving towards the end cell on that axis, so the step count from there is the walk's.
+  if (!alone || !(t[a] == s.t_in) || !(t[a] < s.t_out)) return s.resume;
+  if (s.resume[a] == ray.last[a]) return s.resume;
+  CellIndex c = s.resume;
+  c[a] += ray.step[a];
+  return c;
 }
 
 }  // namespace ndtom

@@ -7,6 +7,32 @@
 
 namespace ndtom {
 
+namespace {
+
+// Rays [begin, end) through the owned tiles only. Not inlined: the serial walk's loop, in
+// the same caller, keeps its code (and its instruction count) as without it.
+[[gnu::noinline]] CountingWalker walkOwnedRays(const ScanContext& scan,
+                                               const ClassifiedPoints& points,
+                                               const EndGroups& groups, size_t begin, size_t end,
+                                               OwnedRayWalk& walk, CountingWalker count) {
+  if (scan.options.ray_mode == RayMode::PerPoint)
+    return walk.walkRays(
+        scan.geometry, scan.origin, begin, end, *scan.owned,
+        [&](size_t i, CountingWalker&) {
+          return points.kinds[i] == PointKind::kRejected ? nullptr : &points.ends[i];
+        },
+        count);
+  return walk.walkRays(
+      scan.geometry, scan.origin, begin, end, *scan.owned,
+      [&](size_t i, CountingWalker& walker) {
+        walker.setWeight(groups.groups[i].count);  // one ray per hit group, its weight
+        return &groups.groups[i].mean_end;
+      },
+      count);
+}
+
+}  // namespace
+
 void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
                    const EndGroups& groups, std::atomic<int64_t>& blocks_left, FreeCounts& out,
                    InsertionReport& report) {
@@ -81,12 +107,7 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
       CountingWalker count(out.tables[t]);
       OwnedRayWalk walk;
       forEachTake([&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) {
-          const Eigen::Vector3d* to = rayEnd(i);
-          if (!to) continue;
-          if (!per_point) count.setWeight(groups.groups[i].count);
-          walk.walk(geometry, origin, *to, *scan.owned, count);
-        }
+        count = walkOwnedRays(scan, points, groups, begin, end, walk, count);
       });
       visits[t] = count.visits();
       return;

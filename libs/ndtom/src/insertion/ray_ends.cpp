@@ -1,5 +1,7 @@
 #include "ray_ends.h"
 
+#include <algorithm>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -27,7 +29,8 @@ inline uint64_t rayEndWord(const ClassifiedPoints& points, const SortedRayEnds& 
 // Keys for ends so far apart that a dense index in their box does not fit a word with the
 // point index (thousands of km at fine resolution: glitches): blocks numbered in the order the
 // points meet them instead, one thread. Returns the key bits.
-int keyByBlockRank(const ClassifiedPoints& points, SortedRayEnds& out) {
+int keyByBlockRank(const ClassifiedPoints& points, const TileOwnership* hits_in,
+                   SortedRayEnds& out) {
   std::unordered_map<CellIndex, uint64_t, CellIndexHash> rank_of_block;
   CellIndex last_block{};
   uint64_t last_rank = UINT64_MAX;  // consecutive points mostly share a block
@@ -35,6 +38,8 @@ int keyByBlockRank(const ClassifiedPoints& points, SortedRayEnds& out) {
   for (size_t i = 0; i < points.points(); ++i) {
     if (points.kinds[i] == PointKind::kRejected) continue;
     const CellIndex& c = points.end_cells[i];
+    if (hits_in && !(points.kinds[i] == PointKind::kHit && hits_in->ownsBlock(blockOf(c))))
+      continue;
     const CellIndex b = blockOf(c);
     if (last_rank == UINT64_MAX || b != last_block) {
       last_rank = rank_of_block.try_emplace(b, rank_of_block.size()).first->second;
@@ -42,7 +47,8 @@ int keyByBlockRank(const ClassifiedPoints& points, SortedRayEnds& out) {
     }
     out.words[k++] = rayEndWord(points, out, last_rank * kBlockCells + uint64_t(offsetInBlock(c)), i);
   }
-  const int key_bits = bitsFor(2 * kBlockCells * rank_of_block.size() - 1);
+  out.words.resize(k);
+  const int key_bits = bitsFor(2 * kBlockCells * std::max<size_t>(rank_of_block.size(), 1) - 1);
   if (key_bits + out.point_bits > 64)  // over 2^27 points, spread over kilometres
     throw std::invalid_argument("insertScan: " + std::to_string(points.points()) +
                                 " points spread over " + std::to_string(rank_of_block.size()) +
@@ -50,9 +56,70 @@ int keyByBlockRank(const ClassifiedPoints& points, SortedRayEnds& out) {
   return key_bits;
 }
 
+// Whether each tile of the ray ends' box is owned, so that a point's test is a shift and a
+// load, not a hash (neighbouring points often lie in different blocks). Empty if the box has
+// too many tiles or they are not a power of two cells wide.
+struct OwnedTiles {
+  std::vector<uint8_t> owned;  ///< [(z * ny + y) * nx + x] from `lo`
+  CellIndex lo{};
+  int64_t nx = 0, ny = 0;
+  int shift = 0;  ///< log2 of the tile edge in cells
+
+  OwnedTiles(const TileOwnership& o, const CellIndex& cells_lo, const CellIndex& cells_hi) {
+    const int32_t edge = o.tileCells();
+    if ((edge & (edge - 1)) != 0) return;
+    shift = __builtin_ctz(uint32_t(edge));
+    lo = tileOf(cells_lo);
+    const CellIndex hi = tileOf(cells_hi);
+    nx = int64_t(hi.x) - lo.x + 1, ny = int64_t(hi.y) - lo.y + 1;
+    const int64_t nz = int64_t(hi.z) - lo.z + 1;
+    if (nx * ny * nz > (int64_t(1) << 20)) return;
+    owned.resize(size_t(nx * ny * nz));
+    size_t k = 0;
+    for (int32_t z = lo.z; z <= hi.z; ++z)
+      for (int32_t y = lo.y; y <= hi.y; ++y)
+        for (int32_t x = lo.x; x <= hi.x; ++x) owned[k++] = o.ownsTile({x, y, z});
+  }
+  CellIndex tileOf(const CellIndex& c) const { return {c.x >> shift, c.y >> shift, c.z >> shift}; }
+  bool owns(const CellIndex& c) const {
+    const CellIndex t = tileOf(c);
+    return owned[size_t((int64_t(t.z - lo.z) * ny + (t.y - lo.y)) * nx + (t.x - lo.x))] != 0;
+  }
+};
+
+// The words of the hits that end in `owned`'s tiles, in point order: each chunk keys its
+// kept points from its usual start, then the chunks move down to follow one another.
+void keyOwnedHits(const ScanContext& scan, const ClassifiedPoints& points,
+                  const TileOwnership& owned, const CellIndex& lo, uint64_t nx, uint64_t ny,
+                  SortedRayEnds& out) {
+  const OwnedTiles tiles(owned, points.ends_lo, points.ends_hi);
+  std::vector<size_t> kept(points.chunks(), 0);
+  scan.pool.run(points.chunks(), [&](size_t t) {
+    size_t k = points.used_before[t];
+    for (size_t i = points.chunk_starts[t]; i < points.chunk_starts[t + 1]; ++i) {
+      if (points.kinds[i] != PointKind::kHit) continue;
+      const CellIndex& c = points.end_cells[i];
+      const CellIndex b = blockOf(c);
+      if (!(tiles.owned.empty() ? owned.ownsBlock(b) : tiles.owns(c))) continue;
+      const uint64_t block =
+          (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
+      out.words[k++] = rayEndWord(points, out, block * kBlockCells + uint64_t(offsetInBlock(c)), i);
+    }
+    kept[t] = k - points.used_before[t];
+  });
+  size_t k = 0;
+  for (size_t t = 0; t < points.chunks(); ++t) {
+    const auto first = out.words.begin() + std::ptrdiff_t(points.used_before[t]);
+    std::copy(first, first + std::ptrdiff_t(kept[t]), out.words.begin() + std::ptrdiff_t(k));
+    k += kept[t];
+  }
+  out.words.resize(k);
+}
+
 }  // namespace
 
-void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points, SortedRayEnds& out) {
+void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points,
+                 const TileOwnership* hits_in, SortedRayEnds& out) {
   out.words.clear();
   if (points.used == 0) return;
   // Cells keyed by a block-major dense index within the ends' bounding box, so each block's
@@ -66,22 +133,26 @@ void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points, Sorted
   int key_bits = bitsFor(2 * kBlockCells * nx * ny * nz - 1);
   out.words.resize(points.used);
   if (key_bits + out.point_bits <= 64) {
-    scan.pool.run(points.chunks(), [&](size_t t) {  // classification's chunks
-      size_t k = points.used_before[t];
-      for (size_t i = points.chunk_starts[t]; i < points.chunk_starts[t + 1]; ++i) {
-        if (points.kinds[i] == PointKind::kRejected) continue;
-        const CellIndex& c = points.end_cells[i];
-        const CellIndex b = blockOf(c);
-        const uint64_t block =
-            (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
-        out.words[k++] = rayEndWord(points, out, block * kBlockCells + uint64_t(offsetInBlock(c)), i);
-      }
-    });
+    if (hits_in) {
+      keyOwnedHits(scan, points, *hits_in, lo, nx, ny, out);
+    } else {
+      scan.pool.run(points.chunks(), [&](size_t t) {  // classification's chunks
+        size_t k = points.used_before[t];
+        for (size_t i = points.chunk_starts[t]; i < points.chunk_starts[t + 1]; ++i) {
+          if (points.kinds[i] == PointKind::kRejected) continue;
+          const CellIndex& c = points.end_cells[i];
+          const CellIndex b = blockOf(c);
+          const uint64_t block =
+              (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
+          out.words[k++] = rayEndWord(points, out, block * kBlockCells + uint64_t(offsetInBlock(c)), i);
+        }
+      });
+    }
   } else {
-    key_bits = keyByBlockRank(points, out);
+    key_bits = keyByBlockRank(points, hits_in, out);
   }
   radixSortByBits(out.words, out.sort_buffer, out.point_bits, key_bits, scan.pool,
-                  scan.threadsFor(points.used, kMinPointsPerThread));
+                  scan.threadsFor(out.words.size(), kMinPointsPerThread));
 }
 
 }  // namespace ndtom

@@ -28,8 +28,11 @@ struct SortedRayEnds {
   static uint64_t denseIndex(uint64_t key) { return key >> 1; }
 };
 
-/// Keys and sorts the ray ends of the used points of `points` into `out`. Throws
+/// Keys and sorts the ray ends of the used points of `points` into `out`; with `hits_in`,
+/// only the hits that end in its tiles (a distributed build's process whose rays are per
+/// point: nothing else reads the groups), in the same order as among all. Throws
 /// std::invalid_argument if the keys cannot fit a word (a scan spread over kilometres).
-void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points, SortedRayEnds& out);
+void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points,
+                 const TileOwnership* hits_in, SortedRayEnds& out);
 
 }  // namespace ndtom
