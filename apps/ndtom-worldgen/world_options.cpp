@@ -42,7 +42,7 @@ WorldOptions parseWorldOptions(int argc, const char* const argv[]) {
                       w.city_size_given = true;
                     }}},
       {"--margin", {true, [](WorldOptions& w, const std::string& v) {
-                      w.route.margin = int(parseInteger("--margin", v, 0, 1000));
+                      w.route.margin = int(parseInteger("--margin", v, 0, 100));
                     }}},
       {"--seed", {true, [](WorldOptions& w, const std::string& v) {
                     w.city.seed = w.route.seed = w.lidar.seed =

@@ -178,6 +178,8 @@ TEST(WorldOptions, MarginAddsItsBlocksToTheCity) {
   EXPECT_ANY_THROW(parseWorldOptions(6, too_small));
   const char* negative[] = {"ndtom-worldgen", "out", "--margin", "-1"};
   EXPECT_ANY_THROW(parseWorldOptions(4, negative));
+  const char* huge[] = {"ndtom-worldgen", "out", "--margin", "101"};  // a city of over 200 blocks
+  EXPECT_ANY_THROW(parseWorldOptions(4, huge));
 }
 
 TEST(SimulatedLidar, PointsLieOnTheSurfacesAndRepeatPerScanIndex) {
