@@ -76,7 +76,8 @@ void SpillCodec::write(const NdtMap& map, const MapByteSink& sink) {
     put(known.data(), sizeof known);
     std::array<float, kBlockCells> values;
     int k = 0;
-    forEachBit(known, [&](int i) { values[size_t(k++)] = block->logodds[size_t(i)]; });
+    const auto& logodds = block->logodds;  // a structured binding cannot be captured in C++17
+    forEachBit(known, [&](int i) { values[size_t(k++)] = logodds[size_t(i)]; });
     put(values.data(), 4 * size_t(k));
     put(block->has_stats.data(), sizeof block->has_stats);
     const uint32_t count = uint32_t(block->stats.size());
