@@ -4,6 +4,7 @@
 #include <bitset>
 #include <cstring>
 
+#include "byte_io.h"
 #include "map_block.h"
 #include "ndtom_internal/crc32.h"
 
@@ -35,114 +36,90 @@ void forEachBit(const Words& w, F&& f) {
     for (uint64_t word = w[size_t(k)]; word; word &= word - 1) f(64 * k + __builtin_ctzll(word));
 }
 
-class Reader {
- public:
-  Reader(const std::string& bytes, const std::string& source) : bytes_(bytes), source_(source) {}
-  void take(void* to, size_t n) {
-    if (n > bytes_.size() - 4 - at_) fail("cut short");
-    std::memcpy(to, bytes_.data() + at_, n);
-    at_ += n;
-  }
-  template <class T>
-  T get() {
-    T v;
-    take(&v, sizeof v);
-    return v;
-  }
-  size_t left() const { return bytes_.size() - 4 - at_; }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw MapFormatError("spill file " + source_ + ": " + what);
-  }
-
- private:
-  const std::string& bytes_;
-  const std::string& source_;
-  size_t at_ = 0;
-};
-
 }  // namespace
 
 void SpillCodec::write(const NdtMap& map, const MapByteSink& sink) {
-  std::string out(kMagic, sizeof kMagic);
-  auto put = [&](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
+  detail::ByteWriter out(sink);  // in chunks, with the running CRC appended by finish()
+  out.bytes(kMagic, sizeof kMagic);
   // Blocks without a known cell (insertion can leave some) are not part of the map: dropped.
   uint64_t blocks = 0;
   for (const auto& entry : map.grid_.blocks()) blocks += entry.second->known.any();
-  put(&blocks, 8);
+  out.bytes(&blocks, 8);
   for (const auto& [index, block] : map.grid_.blocks()) {
     if (block->known.none()) continue;
-    put(&index, sizeof index);
+    out.bytes(&index, sizeof index);
     const Words known = wordsOf(block->known);
-    put(known.data(), sizeof known);
+    out.bytes(known.data(), sizeof known);
     std::array<float, kBlockCells> values;
     int k = 0;
     const auto& logodds = block->logodds;  // a structured binding cannot be captured in C++17
     forEachBit(known, [&](int i) { values[size_t(k++)] = logodds[size_t(i)]; });
-    put(values.data(), 4 * size_t(k));
-    put(block->has_stats.data(), sizeof block->has_stats);
+    out.bytes(values.data(), 4 * size_t(k));
+    out.bytes(block->has_stats.data(), sizeof block->has_stats);
     const uint32_t count = uint32_t(block->stats.size());
-    put(&count, 4);
+    out.bytes(&count, 4);
     for (const CellStats& s : block->stats) {
-      put(&s.n, 4);
-      put(s.relative_mean.data(), 3 * 8);
-      put(s.scatter.data(), 9 * 8);
+      out.bytes(&s.n, 4);
+      out.bytes(s.relative_mean.data(), 3 * 8);
+      out.bytes(s.scatter.data(), 9 * 8);
     }
+    out.maybeFlush();
   }
-  const uint32_t crc = crc32(out.data(), out.size());
-  put(&crc, 4);
-  sink(reinterpret_cast<const uint8_t*>(out.data()), out.size());
+  out.finish();
 }
 
 NdtMap SpillCodec::read(const std::string& bytes, const MapOptions& options,
                         const std::string& source) {
-  Reader in(bytes, source);
-  if (bytes.size() < sizeof kMagic + 8 + 4) in.fail("cut short");
-  uint32_t stored_crc;
-  std::memcpy(&stored_crc, bytes.data() + bytes.size() - 4, 4);
-  if (crc32(bytes.data(), bytes.size() - 4) != stored_crc) in.fail("checksum mismatch");
+  const auto* data = reinterpret_cast<const uint8_t*>(bytes.data());
+  const std::string name = "spill file " + source;
+  if (bytes.size() < sizeof kMagic + 8 + 4) detail::ByteReader(data, 0, name).fail("cut short");
+  detail::ByteReader in(data, bytes.size() - 4, name);  // the CRC after it
+  if (crc32(data, bytes.size() - 4) != detail::ByteReader(data + bytes.size() - 4, 4, name).u32())
+    in.fail("checksum mismatch");
   char magic[8];
-  in.take(magic, 8);
+  in.bytes(magic, 8);
   if (std::memcmp(magic, kMagic, 8) != 0) in.fail("not a spill file");
-  const uint64_t blocks = in.get<uint64_t>();
+  uint64_t blocks;
+  in.bytes(&blocks, 8);
   constexpr size_t kMinBlock = sizeof(CellIndex) + sizeof(Words) + 4 + sizeof(MapBlock::Mask) + 4;
-  if (blocks > in.left() / kMinBlock) in.fail("block count exceeds the file");
+  if (blocks > in.remaining() / kMinBlock) in.fail("block count exceeds the file");
   NdtMap map(options);
   for (uint64_t b = 0; b < blocks; ++b) {
-    const CellIndex index = in.get<CellIndex>();
+    CellIndex index;
+    in.bytes(&index, sizeof index);
     auto block = std::make_unique<MapBlock>();
     Words known;
-    in.take(known.data(), sizeof known);
+    in.bytes(known.data(), sizeof known);
     std::array<float, kBlockCells> values;
-    in.take(values.data(), 4 * size_t(cellsIn(known)));
+    in.bytes(values.data(), 4 * size_t(cellsIn(known)));
     int k = 0;
     forEachBit(known, [&](int i) {
       block->known.set(size_t(i));
       block->logodds[size_t(i)] = values[size_t(k++)];
     });
-    in.take(block->has_stats.data(), sizeof block->has_stats);
-    const uint32_t count = in.get<uint32_t>();
+    in.bytes(block->has_stats.data(), sizeof block->has_stats);
+    uint32_t count;
+    in.bytes(&count, 4);
     size_t marked = 0;
     for (int w = 0; w < MapBlock::kWords; ++w) {
       marked += size_t(__builtin_popcountll(block->has_stats[size_t(w)]));
-      for (int bit = 0; bit < 64; ++bit)
-        if ((block->has_stats[size_t(w)] >> bit & 1) && !block->known[size_t(64 * w + bit)])
-          in.fail("statistics in an unknown cell");
+      if (block->has_stats[size_t(w)] & ~known[size_t(w)]) in.fail("statistics in an unknown cell");
     }
     if (block->known.none()) in.fail("an empty block");
     if (count != marked) in.fail("statistics count does not match its mask");
-    if (count > in.left() / kStatsBytes) in.fail("statistics count exceeds the file");
+    if (count > in.remaining() / kStatsBytes) in.fail("statistics count exceeds the file");
     block->stats.resize(count);
     for (CellStats& s : block->stats) {
-      s.n = in.get<uint32_t>();
-      in.take(s.relative_mean.data(), 3 * 8);
-      in.take(s.scatter.data(), 9 * 8);
+      in.bytes(&s.n, 4);
+      in.bytes(s.relative_mean.data(), 3 * 8);
+      in.bytes(s.scatter.data(), 9 * 8);
     }
     const size_t cells = block->known.count(), stats_bytes = statsBytes(block->stats);
     if (!map.grid_.blocks().emplace(index, std::move(block)).second) in.fail("a block twice");
     map.num_cells_ += cells;
     map.stats_bytes_ += stats_bytes;
   }
-  if (in.left() != 0) in.fail("bytes after the last block");
+  if (in.remaining() != 0) in.fail("bytes after the last block");
   map.touch();
   return map;
 }
