@@ -79,6 +79,33 @@ TEST(OutOfCoreMap, SpillsAndReloadsTilesAndBuildsTheInMemoryMap) {
   fs::remove_all(dir);
 }
 
+// Glitch points kilometres away make the scan's box billions of tiles (of 0.8 m): the tiles it
+// meets are then found from what the map holds, not by visiting the box's tiles (which would
+// not finish), and the map is the in-memory one.
+TEST(OutOfCoreMap, AScanBoxFarLargerThanTheMapIsHandledByWhatTheMapHolds) {
+  MapOptions options;
+  options.resolution = 0.1;
+  options.insertion.max_range = 1e6;
+  std::vector<Eigen::Vector3d> near, glitchy;
+  for (int i = 0; i < 200; ++i) near.emplace_back(3.0 + 0.01 * i, -2.0 + 0.02 * i, 0.5);
+  glitchy = near;
+  glitchy.emplace_back(1200.0, -900.0, 60.0);  // 1.5 km: traced (under kMaxRayCells cells)
+  glitchy.emplace_back(-1200.0, 900.0, -60.0);
+  NdtMap whole(options);
+  const fs::path dir = fs::temp_directory_path() / ("ndtom_ooc_far_" + std::to_string(::getpid()));
+  {
+    OutOfCoreMap ooc(options, 1 << 26, 1, (dir / "spill").string());
+    for (int s = 0; s < 4; ++s) {
+      const auto& points = s % 3 == 0 ? glitchy : near;
+      const Eigen::Vector3d origin(0.3 * s, 0, 1.0);
+      whole.insertScan(points, origin);
+      ooc.insertScan(points, origin, options.insertion);
+    }
+    ndtom::testing::expectBitIdentical(whole, ooc.assemble());
+  }
+  fs::remove_all(dir);
+}
+
 TEST(OutOfCoreMap, RejectsBadSizesAndMovesBlocksBothWays) {
   EXPECT_THROW(OutOfCoreMap(MapOptions{}, 0, 2, "/tmp"), std::invalid_argument);
   EXPECT_THROW(OutOfCoreMap(MapOptions{}, 1000, 0, "/tmp"), std::invalid_argument);

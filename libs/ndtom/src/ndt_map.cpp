@@ -166,6 +166,10 @@ uint64_t NdtMap::maxScanPoints(uint64_t budget) {
   return budget / ScanUpdater::kBytesPerPoint;
 }
 
+size_t NdtMap::numBlocks() const {
+  return grid_.size();
+}
+
 size_t NdtMap::memoryBytes() const {
   return grid_.memoryBytes() + stats_bytes_;
 }

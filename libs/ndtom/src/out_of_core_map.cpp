@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include "ndtom/block_grid.h"
+#include "ndtom/input_file.h"
 #include "ndtom/map_io.h"
 #include "spill_codec.h"
 
@@ -43,22 +45,64 @@ NdtMap OutOfCoreMap::extractTile(const CellIndex& t) {
   return resident_.extractBlockRange(lo, hi);
 }
 
-std::set<CellIndex> OutOfCoreMap::tilesMeeting(const Eigen::AlignedBox3d& box) const {
-  std::set<CellIndex> out;
-  for (const auto& [t, used] : last_use_)
-    if (tileBox(t).intersects(box)) out.insert(t);
-  for (const CellIndex& t : spilled_)
-    if (tileBox(t).intersects(box)) out.insert(t);
+namespace {
+
+// Calls f(tile) for every tile of `tile_blocks` blocks whose box meets `box`, if there are at
+// most `limit` tiles to test (the box's tile range, widened by a tile each side so rounding
+// cannot lose one); else returns false, calling nothing (also for a box that is not finite).
+// Callers fall back to a pass over what they hold: a scan's box can be far larger than the
+// map (a glitch point kilometres away, cut only at max_range).
+template <class F>
+bool forEachTileMeeting(const Eigen::AlignedBox3d& box, int tile_blocks, double resolution,
+                        double limit, F&& f) {
+  if (!box.min().allFinite() || !box.max().allFinite()) return false;
+  const double edge = tile_blocks * kBlockEdge * resolution;
+  CellIndex lo, hi;
+  double tiles = 1;
+  for (int a = 0; a < 3; ++a) {
+    const double l = std::floor(box.min()[a] / edge) - 1, h = std::floor(box.max()[a] / edge) + 1;
+    tiles *= h - l + 1;
+    if (!(tiles <= limit) || l < -double(1 << 30) || h > double(1 << 30)) return false;
+    lo[a] = int32_t(l), hi[a] = int32_t(h);
+  }
+  for (int32_t x = lo.x; x <= hi.x; ++x)
+    for (int32_t y = lo.y; y <= hi.y; ++y)
+      for (int32_t z = lo.z; z <= hi.z; ++z)
+        if (const CellIndex t{x, y, z}; tileBoxOf(t, tile_blocks, resolution).intersects(box)) f(t);
+  return true;
+}
+
+}  // namespace
+
+std::vector<CellIndex> OutOfCoreMap::spilledTilesMeeting(const Eigen::AlignedBox3d& box) const {
+  std::vector<CellIndex> out;
+  const auto keep = [&](const CellIndex& t) {
+    if (spilled_.count(t)) out.push_back(t);
+  };
+  if (!forEachTileMeeting(box, tile_blocks_, resident_.options().resolution,
+                          double(spilled_.size()), keep))
+    for (const CellIndex& t : spilled_)
+      if (tileBox(t).intersects(box)) out.push_back(t);
   return out;
+}
+
+void OutOfCoreMap::noteTilesUsed(const Eigen::AlignedBox3d& box) {
+  // The tiles the scan may have reached are the most recently used, and any new block is in
+  // one of them: the scan's box says which tiles to note, or, if it has more tiles than the
+  // resident map has blocks, a pass over the blocks does.
+  const auto note = [&](const CellIndex& t) { last_use_[t] = clock_; };
+  if (forEachTileMeeting(box, tile_blocks_, resident_.options().resolution,
+                         double(resident_.numBlocks()), note))
+    return;
+  resident_.forEachBlock(
+      [&](const CellIndex& block) { last_use_.try_emplace(tileOfBlock(block, tile_blocks_), clock_); });
+  for (auto& [t, used] : last_use_)
+    if (tileBox(t).intersects(box)) used = clock_;
 }
 
 NdtMap OutOfCoreMap::readSpilled(const CellIndex& t) const {
   const std::string path = spillPath(t);
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  std::string bytes(in ? size_t(in.tellg()) : 0, '\0');
-  if (!in || !in.seekg(0).read(bytes.data(), std::streamsize(bytes.size())))
-    throw std::runtime_error("cannot read the spill file " + path);
-  return SpillCodec::read(bytes, resident_.options(), path);
+  return SpillCodec::read(readInputFile(path, UINT64_MAX, "spill file"), resident_.options(), path);
 }
 
 void OutOfCoreMap::loadTile(CellIndex t) {  // a copy: t may be a key of spilled_
@@ -107,23 +151,10 @@ InsertionReport OutOfCoreMap::insertScan(const std::vector<Eigen::Vector3d>& poi
   box.min().array() -= margin;
   box.max().array() += margin;
 
-  const std::set<CellIndex> needed = tilesMeeting(box);
-  for (const CellIndex& t : needed)
-    if (spilled_.count(t)) loadTile(t);
+  for (const CellIndex& t : spilledTilesMeeting(box)) loadTile(t);
   const InsertionReport report = resident_.insertScan(points, origin, options);
-  // The tiles the scan may have reached are the most recently used, and any new block is in
-  // one of them: the scan's box, not the whole resident map, says which tiles to note.
   ++clock_;
-  const double edge = tile_blocks_ * kBlockEdge * resident_.options().resolution;
-  CellIndex lo, hi;  // a tile wider than the box's on each side: rounding cannot lose one
-  auto tileAt = [&](double x, int widen) {  // clamped: the map's cells are int32 anyway
-    return int32_t(std::clamp(std::floor(x / edge), -double(1 << 30), double(1 << 30))) + widen;
-  };
-  for (int a = 0; a < 3; ++a) lo[a] = tileAt(box.min()[a], -1), hi[a] = tileAt(box.max()[a], 1);
-  for (int32_t x = lo.x; x <= hi.x; ++x)
-    for (int32_t y = lo.y; y <= hi.y; ++y)
-      for (int32_t z = lo.z; z <= hi.z; ++z)
-        if (const CellIndex t{x, y, z}; tileBox(t).intersects(box)) last_use_[t] = clock_;
+  noteTilesUsed(box);
   stats_.peak_resident_bytes = std::max(stats_.peak_resident_bytes, resident_.memoryBytes());
   while (resident_.memoryBytes() > budget_) {
     const CellIndex* oldest = nullptr;

@@ -80,6 +80,7 @@ class NdtMap {
 
   bool isEmpty() const { return num_cells_ == 0; }
   size_t numCells() const { return num_cells_; }  ///< cells ever observed and not cleared
+  size_t numBlocks() const;  ///< blocks of kBlockEdge³ cells held
   size_t numGaussians() const;                    ///< cells with N ≥ 3
   size_t numOccupied() const;  ///< cells cellState() (map_queries.h) calls occupied
 

@@ -56,7 +56,10 @@ class OutOfCoreMap {
 
  private:
   std::string spillPath(const CellIndex& tile) const;
-  std::set<CellIndex> tilesMeeting(const Eigen::AlignedBox3d& box) const;
+  /// The spilled tiles a scan's box meets (to read back before the scan).
+  std::vector<CellIndex> spilledTilesMeeting(const Eigen::AlignedBox3d& box) const;
+  /// Marks the tiles a scan's box meets as used by the current scan (clock_).
+  void noteTilesUsed(const Eigen::AlignedBox3d& box);
   void loadTile(CellIndex tile);
   NdtMap readSpilled(const CellIndex& tile) const;
   void spillTile(CellIndex tile);
