@@ -87,20 +87,19 @@ struct OwnedTiles {
   }
 };
 
-// The words of the hits that end in `owned`'s tiles, in point order: each chunk keys its
-// kept points from its usual start, then the chunks move down to follow one another.
-void keyOwnedHits(const ScanContext& scan, const ClassifiedPoints& points,
-                  const TileOwnership& owned, const CellIndex& lo, uint64_t nx, uint64_t ny,
-                  SortedRayEnds& out) {
-  const OwnedTiles tiles(owned, points.ends_lo, points.ends_hi);
+// The words of the points keep(i) accepts, keyed by dense index in the ends' box of blocks
+// (from `lo`, nx × ny), in point order: each of classification's chunks keys its points from
+// its usual start; where points were left out, the chunks then move down to follow one another.
+template <class Keep>
+void keyEndsInBox(const ScanContext& scan, const ClassifiedPoints& points, const CellIndex& lo,
+                  uint64_t nx, uint64_t ny, Keep&& keep, SortedRayEnds& out) {
   std::vector<size_t> kept(points.chunks(), 0);
   scan.pool.run(points.chunks(), [&](size_t t) {
     size_t k = points.used_before[t];
     for (size_t i = points.chunk_starts[t]; i < points.chunk_starts[t + 1]; ++i) {
-      if (points.kinds[i] != PointKind::kHit) continue;
+      if (!keep(i)) continue;
       const CellIndex& c = points.end_cells[i];
       const CellIndex b = blockOf(c);
-      if (!(tiles.owned.empty() ? owned.ownsBlock(b) : tiles.owns(c))) continue;
       const uint64_t block =
           (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
       out.words[k++] = rayEndWord(points, out, block * kBlockCells + uint64_t(offsetInBlock(c)), i);
@@ -110,7 +109,8 @@ void keyOwnedHits(const ScanContext& scan, const ClassifiedPoints& points,
   size_t k = 0;
   for (size_t t = 0; t < points.chunks(); ++t) {
     const auto first = out.words.begin() + std::ptrdiff_t(points.used_before[t]);
-    std::copy(first, first + std::ptrdiff_t(kept[t]), out.words.begin() + std::ptrdiff_t(k));
+    if (k != points.used_before[t])
+      std::copy(first, first + std::ptrdiff_t(kept[t]), out.words.begin() + std::ptrdiff_t(k));
     k += kept[t];
   }
   out.words.resize(k);
@@ -133,20 +133,16 @@ void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points,
   int key_bits = bitsFor(2 * kBlockCells * nx * ny * nz - 1);
   out.words.resize(points.used);
   if (key_bits + out.point_bits <= 64) {
-    if (hits_in) {
-      keyOwnedHits(scan, points, *hits_in, lo, nx, ny, out);
-    } else {
-      scan.pool.run(points.chunks(), [&](size_t t) {  // classification's chunks
-        size_t k = points.used_before[t];
-        for (size_t i = points.chunk_starts[t]; i < points.chunk_starts[t + 1]; ++i) {
-          if (points.kinds[i] == PointKind::kRejected) continue;
-          const CellIndex& c = points.end_cells[i];
-          const CellIndex b = blockOf(c);
-          const uint64_t block =
-              (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
-          out.words[k++] = rayEndWord(points, out, block * kBlockCells + uint64_t(offsetInBlock(c)), i);
-        }
-      });
+    if (hits_in) {  // the hits in its tiles
+      const OwnedTiles tiles(*hits_in, points.ends_lo, points.ends_hi);
+      keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i) {
+        if (points.kinds[i] != PointKind::kHit) return false;
+        const CellIndex& c = points.end_cells[i];
+        return tiles.owned.empty() ? hits_in->ownsBlock(blockOf(c)) : tiles.owns(c);
+      }, out);
+    } else {  // every used point
+      keyEndsInBox(scan, points, lo, nx, ny,
+                   [&](size_t i) { return points.kinds[i] != PointKind::kRejected; }, out);
     }
   } else {
     key_bits = keyByBlockRank(points, hits_in, out);
