@@ -31,6 +31,14 @@ namespace {
       count);
 }
 
+// The serial walk of rays [begin, end), one function per walker and ray end: compiled on its
+// own, the walk keeps its registers whatever else the caller holds.
+template <class Walker, class RayEnd>
+[[gnu::noinline]] Walker walkSerialRays(const ScanContext& scan, size_t begin, size_t end,
+                                        RayEnd&& rayEnd, Walker count) {
+  return walkRays(scan.geometry, scan.origin, begin, end, rayEnd, count);
+}
+
 }  // namespace
 
 void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
@@ -116,17 +124,16 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
     if (per_point) {
       UnitCountingWalker count(out.tables[t]);
       forEachTake([&](size_t begin, size_t end) {
-        count = walkRays(
-            geometry, origin, begin, end,
-            [&](size_t i, UnitCountingWalker&) { return rayEnd(i); }, count);
+        count = walkSerialRays(
+            scan, begin, end, [&](size_t i, UnitCountingWalker&) { return rayEnd(i); }, count);
       });
       visits[t] = count.visits();
       return;
     }
     CountingWalker count(out.tables[t]);
     forEachTake([&](size_t begin, size_t end) {
-      count = walkRays(
-          geometry, origin, begin, end,
+      count = walkSerialRays(
+          scan, begin, end,
           [&](size_t i, CountingWalker& walker) {
             walker.setWeight(groups.groups[i].count);  // one ray per hit group, its weight
             return &groups.groups[i].mean_end;
