@@ -122,26 +122,21 @@ struct RaySteps {
 /// The walk of [from, to] from `first`, a cell it passes through, to its end or to the last
 /// crossing at a time t <= t_end (<= 1), whichever comes first. The walk's next step depends
 /// only on its current cell (crossing times come from boundary indices, not accumulated), so
-/// a walk resumed at a cell continues exactly as the walk from `from` would. With kGiven,
-/// `ray` is RaySteps(geometry, from, to), computed once for several resumes (same values, so
-/// the same walk), and a step along one axis alone is taken only before t_single_end (a
-/// resumed stretch stops short of the cell past its end: see owned_ray_walk.h); without,
-/// they are computed here (`ray` and t_single_end unused: the serial walk's code stays as it
-/// was, measured fastest).
-template <bool kGiven, class Walker>
-[[gnu::always_inline]] inline void walkSegmentImpl(const GridGeometry& geometry,
+/// a walk resumed at a cell continues exactly as the walk from `from` would. `ray` is
+/// RaySteps(geometry, from, to), which a caller resuming one ray several times computes once
+/// (same values, so the same walk); a step along one axis alone is taken only at times up to
+/// t_single_end (<= t_end: a resumed stretch stops short of the cell past its end, see
+/// owned_ray_walk.h); `resumed`: `first` is not the cell of `from`.
+template <class Walker>
+[[gnu::always_inline]] inline void walkSegmentFrom(const GridGeometry& geometry,
                                                    const Eigen::Vector3d& from,
-                                                   const Eigen::Vector3d& to, const RaySteps* ray,
+                                                   const Eigen::Vector3d& to, const RaySteps& ray,
                                                    const CellIndex& first, double t_end,
                                                    double t_single_end, bool resumed,
                                                    Walker& walker) {
-  const double t_single = kGiven ? t_single_end : t_end;
-  const CellIndex last = kGiven ? ray->last : geometry.cellOf(to);
+  const CellIndex last = ray.last;
   if (first == last) return;
-  if constexpr (kGiven)
-    startWalker(walker, first, resumed, 0);
-  else
-    walker.start(first);
+  startWalker(walker, first, resumed, 0);
 
   // Local scalars whose address never escapes, so the compiler keeps them in registers.
   constexpr double kNever = std::numeric_limits<double>::infinity();
@@ -149,18 +144,9 @@ template <bool kGiven, class Walker>
   int32_t step[3], up[3];
   double inv[3], t_next[3];
   for (int a = 0; a < 3; ++a) {
-    if constexpr (kGiven) {
-      step[a] = ray->step[a], up[a] = ray->up[a], inv[a] = ray->inv[a];
-      t_next[a] = step[a] != 0 ? crossingTime(geometry.cellMin(cell[a] + up[a]), from[a], inv[a])
-                               : kNever;
-    } else {
-      const double delta = to[a] - from[a];
-      step[a] = delta > 0 ? 1 : (delta < 0 ? -1 : 0);
-      up[a] = delta > 0 ? 1 : 0;
-      inv[a] = delta != 0 ? 1.0 / delta : 0.0;
-      t_next[a] =
-          delta != 0 ? crossingTime(geometry.cellMin(cell[a] + up[a]), from[a], inv[a]) : kNever;
-    }
+    step[a] = ray.step[a], up[a] = ray.up[a], inv[a] = ray.inv[a];
+    t_next[a] =
+        step[a] != 0 ? crossingTime(geometry.cellMin(cell[a] + up[a]), from[a], inv[a]) : kNever;
   }
   // Index of the next boundary on each axis, kept as a double: integers are exact there, and
   // the crossing time needs it as a double anyway (one conversion less per step).
@@ -187,17 +173,17 @@ template <bool kGiven, class Walker>
     // (doc/benchmarks.md). Each branch guards against rounding taking the walk past the end
     // of the segment.
     if (tx < ty && tx < tz) {
-      if (!(tx <= t_single)) return;
+      if (!(tx <= t_single_end)) return;
       bx += dx;
       walker.template move<0>(sx);
       tx = crossingTime(bx * r, fx, ix);
     } else if (ty < tx && ty < tz) {
-      if (!(ty <= t_single)) return;
+      if (!(ty <= t_single_end)) return;
       by += dy;
       walker.template move<1>(sy);
       ty = crossingTime(by * r, fy, iy);
     } else if (tz < tx && tz < ty) {
-      if (!(tz <= t_single)) return;
+      if (!(tz <= t_single_end)) return;
       bz += dz;
       walker.template move<2>(sz);
       tz = crossingTime(bz * r, fz, iz);
@@ -237,25 +223,14 @@ template <bool kGiven, class Walker>
   }
 }
 
+/// walkSegmentFrom for a walk computing the ray's RaySteps itself.
 template <class Walker>
 [[gnu::always_inline]] inline void walkSegmentFrom(const GridGeometry& geometry,
                                                    const Eigen::Vector3d& from,
                                                    const Eigen::Vector3d& to, const CellIndex& first,
                                                    double t_end, Walker& walker) {
-  walkSegmentImpl<false>(geometry, from, to, nullptr, first, t_end, t_end, false, walker);
-}
-
-/// walkSegmentFrom with the ray's RaySteps computed once by the caller; steps along one axis
-/// alone only at times up to t_single_end (<= t_end); `resumed`: `first` is not the cell of
-/// `from`.
-template <class Walker>
-[[gnu::always_inline]] inline void walkSegmentFrom(const GridGeometry& geometry,
-                                                   const Eigen::Vector3d& from,
-                                                   const Eigen::Vector3d& to, const RaySteps& ray,
-                                                   const CellIndex& first, double t_end,
-                                                   double t_single_end, bool resumed,
-                                                   Walker& walker) {
-  walkSegmentImpl<true>(geometry, from, to, &ray, first, t_end, t_single_end, resumed, walker);
+  walkSegmentFrom(geometry, from, to, RaySteps(geometry, from, to), first, t_end, t_end, false,
+                  walker);
 }
 
 template <class Walker>
