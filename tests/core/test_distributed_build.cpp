@@ -4,6 +4,7 @@
 // put together are the serial map bit for bit, for either ray mode and any thread count.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -54,16 +55,23 @@ std::map<CellIndex, int> serialWalk(const GridGeometry& g, const Eigen::Vector3d
   return cells;
 }
 
-// Every rank's owned walk, summed; the steps all ranks took.
+// Every rank's owned walk, summed; the steps all ranks took. Ranks alternate between a table
+// of owners over the ray's box and hashing every tile.
 std::map<CellIndex, int> ownedWalks(const GridGeometry& g, const Eigen::Vector3d& from,
                                     const Eigen::Vector3d& to, int tile_blocks, int ranks,
                                     size_t& steps) {
   std::map<CellIndex, int> cells;
   ndtom::OwnedRayWalk walk;
+  const CellIndex a = g.cellOf(from), b = g.cellOf(to);
+  const CellIndex lo{std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
+  const CellIndex hi{std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
   for (int rank = 0; rank < ranks; ++rank) {
     const TileOwnership owned{tile_blocks, rank, ranks};
     RecordingWalker w{&owned, &cells};
-    walk.walk(g, from, to, owned, w);
+    if (rank % 2 == 0)
+      walk.walk(g, from, to, ndtom::OwnedTiles(owned, lo, hi), w);
+    else
+      walk.walk(g, from, to, ndtom::OwnedTiles(owned), w);
     steps += w.steps;
   }
   return cells;
@@ -129,6 +137,48 @@ TEST(OwnedRayWalk, RaysEndingWithinRoundingOfATileBoundaryToo) {
   }
 }
 
+TEST(OwnedRayWalk, RaysThroughMoreStretchesThanItKeepsApartToo) {
+  // Hundreds of one-block tiles along each ray: more stretches than the walk keeps apart
+  // (OwnedRayWalk::kMaxStretches), so the last one kept is walked through to the end.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> coordinate(-150, 150);
+  const GridGeometry g(0.2);
+  for (int ray = 0; ray < 40; ++ray) {
+    const Eigen::Vector3d from(coordinate(rng), coordinate(rng), coordinate(rng) / 10);
+    const Eigen::Vector3d to(coordinate(rng), coordinate(rng), coordinate(rng) / 10);
+    const auto serial = serialWalk(g, from, to);
+    for (const int ranks : {2, 3}) {
+      size_t steps = 0;
+      ASSERT_EQ(ownedWalks(g, from, to, 1, ranks, steps), serial) << "ray " << ray;
+    }
+  }
+}
+
+TEST(OwnedTiles, TheTableAnswersAsTheOwnershipForTilesInAndAroundItsBox) {
+  for (const int tile_blocks : {1, 3, 4}) {  // 3: tiles not a power of two cells wide
+    for (const int ranks : {1, 2, 5}) {
+      for (int rank = 0; rank < ranks; ++rank) {
+        const TileOwnership o{tile_blocks, rank, ranks};
+        const CellIndex lo{-70, -5, -200}, hi{45, 90, -100};
+        const ndtom::OwnedTiles table(o, lo, hi), hashed(o);
+        const int32_t edge = o.tileCells();
+        // Every cell of the box, and cells three tiles beyond it on every side.
+        for (int32_t z = lo.z - 3 * edge; z <= hi.z + 3 * edge; z += 7)
+          for (int32_t y = lo.y - 3 * edge; y <= hi.y + 3 * edge; y += 5)
+            for (int32_t x = lo.x - 3 * edge; x <= hi.x + 3 * edge; x += 3) {
+              const CellIndex c{x, y, z};
+              const CellIndex tile{ndtom::floorDiv(x, edge), ndtom::floorDiv(y, edge),
+                                   ndtom::floorDiv(z, edge)};
+              ASSERT_EQ(table.tileOf(c), tile);
+              ASSERT_EQ(table.ownsCell(c), o.ownsTile(tile)) << x << " " << y << " " << z;
+              ASSERT_EQ(hashed.ownsCell(c), o.ownsTile(tile));
+              ASSERT_EQ(table.ownsCell(c), o.ownsBlock(ndtom::blockOf(c)));
+            }
+      }
+    }
+  }
+}
+
 TEST(OwnedRayWalk, RanksJumpOverOtherRanksTiles) {
   const GridGeometry g(0.2);
   const Eigen::Vector3d from(0.05, 0.07, 0.03), to(57.1, 23.3, 4.9);
@@ -159,7 +209,7 @@ TEST(OwnedRayWalk, StretchesEnteredAndLeftAlongOneAxisVisitOnlyTheirOwnCells) {
     for (int rank = 0; rank < ranks; ++rank) {
       const TileOwnership owned{2, rank, ranks};
       RecordingWalker w{&owned, &cells};
-      walk.walk(g, from, to, owned, w);
+      walk.walk(g, from, to, ndtom::OwnedTiles(owned), w);
       foreign += w.foreign;
     }
     for (const auto& [cell, n] : cells) visits += size_t(n);

@@ -10,14 +10,14 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
-#include <vector>
 
+#include "ndtom/owned_tiles.h"
 #include "ndtom/ray_dda.h"
 #include "ndtom/tile_ownership.h"
 
 namespace ndtom {
 
-/// Walks rays through the owned tiles; keeps its buffers from ray to ray (one per thread).
+/// Walks rays through the owned tiles (no state: a class for its private helpers).
 class OwnedRayWalk {
  public:
   /// Visits, in order, the cells of walkRay(from, to) that lie in tiles `owned` owns, with
@@ -26,59 +26,49 @@ class OwnedRayWalk {
   /// must ignore. Over all processes, each cell of walkRay(from, to) is visited exactly once
   /// in an owned tile.
   template <class Walker>
-  void walk(const GridGeometry& geometry, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
-            const TileOwnership& owned, Walker& walker);
+  static void walk(const GridGeometry& geometry, const Eigen::Vector3d& from,
+                   const Eigen::Vector3d& to, const OwnedTiles& owned, Walker& walker);
 
   /// walk() for many rays from one origin, as walkRays() in ray_dda.h: for i in [begin, end),
   /// the ray to *rayEnd(i, walker), skipping nullptr. The walker stays in registers from ray
   /// to ray, and the origin's cell and tile are found once.
   template <class Walker, class RayEnd>
-  Walker walkRays(const GridGeometry& geometry, const Eigen::Vector3d& from, size_t begin,
-                  size_t end, const TileOwnership& owned, RayEnd&& rayEnd, Walker walker);
+  static Walker walkRays(const GridGeometry& geometry, const Eigen::Vector3d& from, size_t begin,
+                         size_t end, const OwnedTiles& owned, RayEnd&& rayEnd, Walker walker);
 
  private:
   /// What every ray from one origin shares.
   struct Origin {
     CellIndex cell, tile;
+    OwnedTiles::Lookup owner;
+    bool owned;    ///< its tile
     int32_t edge;  ///< tile edge in cells
     int shift;     ///< log2(edge) for power-of-two edges, else -1
     int32_t tileOf(int32_t c) const { return shift >= 0 ? c >> shift : floorDiv(c, edge); }
   };
   static Origin originOf(const GridGeometry& geometry, const Eigen::Vector3d& from,
-                         const TileOwnership& owned) {
-    Origin o;
-    o.cell = geometry.cellOf(from);
-    o.edge = owned.tileCells();
-    o.shift = (o.edge & (o.edge - 1)) == 0 ? __builtin_ctz(uint32_t(o.edge)) : -1;
-    o.tile = {o.tileOf(o.cell.x), o.tileOf(o.cell.y), o.tileOf(o.cell.z)};
-    return o;
+                         const OwnedTiles& owned) {
+    const CellIndex cell = geometry.cellOf(from), tile = owned.tileOf(cell);
+    const int32_t edge = owned.tileCells();
+    const int shift = (edge & (edge - 1)) == 0 ? __builtin_ctz(uint32_t(edge)) : -1;
+    return {cell, tile, owned.lookup(), owned.ownsTile(tile), edge, shift};
   }
   template <class Walker>
-  [[gnu::always_inline]] inline void walkOne(const GridGeometry& geometry,
-                                             const Eigen::Vector3d& from, const Origin& origin,
-                                             const Eigen::Vector3d& to, const TileOwnership& owned,
-                                             Walker& walker);
+  [[gnu::always_inline]] static inline void walkOne(const GridGeometry& geometry,
+                                                    const Eigen::Vector3d& from,
+                                                    const Origin& origin, const Eigen::Vector3d& to,
+                                                    Walker& walker);
 
   struct Stretch {       // of consecutive owned tiles
     double t_in, t_out;  ///< entered at t_in (-inf: at the start), left at t_out (+inf: never)
     CellIndex resume;    ///< the walk's cell after every crossing before t_in
   };
-  bool ownsTile(const TileOwnership& owned, const CellIndex& tile) {
-    if (!(tile == cached_tile_) || owned.rank != cached_for_.rank ||  // rays share first tiles
-        owned.ranks != cached_for_.ranks || owned.tile_blocks != cached_for_.tile_blocks) {
-      cached_tile_ = tile, cached_for_ = owned, cached_owned_ = owned.ownsTile(tile);
-    }
-    return cached_owned_;
-  }
   /// The cell after the resume cell if the walk enters the stretch by one step there, else
   /// the resume cell.
   static CellIndex firstOwnedCell(const GridGeometry& geometry, const Eigen::Vector3d& from,
                                   const detail::RaySteps& ray, const Stretch& s);
   static constexpr int kJoinCells = 8;
-  std::vector<Stretch> stretches_;
-  CellIndex cached_tile_;
-  TileOwnership cached_for_{1, 0, 0};  // matches no real ownership
-  bool cached_owned_ = false;
+  static constexpr int kMaxStretches = 16;
 };
 
 // --- Implementation --------------------------------------------------------------------
@@ -135,28 +125,28 @@ inline bool cellBefore(const GridGeometry& geometry, const Eigen::Vector3d& from
 
 template <class Walker>
 void OwnedRayWalk::walk(const GridGeometry& geometry, const Eigen::Vector3d& from,
-                        const Eigen::Vector3d& to, const TileOwnership& owned, Walker& walker) {
+                        const Eigen::Vector3d& to, const OwnedTiles& owned, Walker& walker) {
   Walker local(std::move(walker));
-  walkOne(geometry, from, originOf(geometry, from, owned), to, owned, local);
+  walkOne(geometry, from, originOf(geometry, from, owned), to, local);
   walker = std::move(local);
 }
 
 template <class Walker, class RayEnd>
 Walker OwnedRayWalk::walkRays(const GridGeometry& geometry, const Eigen::Vector3d& from,
-                              size_t begin, size_t end, const TileOwnership& owned,
+                              size_t begin, size_t end, const OwnedTiles& owned,
                               RayEnd&& rayEnd, Walker walker) {
   const Origin origin = originOf(geometry, from, owned);
   Walker local(std::move(walker));
   for (size_t i = begin; i < end; ++i)
     if (const Eigen::Vector3d* to = rayEnd(i, local))
-      walkOne(geometry, from, origin, *to, owned, local);
+      walkOne(geometry, from, origin, *to, local);
   return Walker(std::move(local));
 }
 
 template <class Walker>
 inline void OwnedRayWalk::walkOne(const GridGeometry& geometry, const Eigen::Vector3d& from,
                                   const Origin& origin, const Eigen::Vector3d& to,
-                                  const TileOwnership& owned, Walker& walker) {
+                                  Walker& walker) {
   const CellIndex& first = origin.cell;
   const CellIndex last = geometry.cellOf(to);
   if (first == last) return;
@@ -173,87 +163,104 @@ inline void OwnedRayWalk::walkOne(const GridGeometry& geometry, const Eigen::Vec
     one_tile = end_tile == tile[a] && !(delta > 0 && offset == edge - 1) && !(delta < 0 && offset == 0);
   }
   if (one_tile) {
-    if (ownsTile(owned, tile))
-      detail::walkSegmentFrom(geometry, from, to, first, 1.0, walker);
+    if (origin.owned)
+      detail::walkSegmentFrom(geometry, from, detail::RaySteps(from, to, last), first, 1.0, 1.0,
+                              false, walker);
     return;
   }
+  const detail::RaySteps ray(from, to, last);  // once for the tiles and every stretch
 
   const double r = geometry.resolution();
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  const detail::RaySteps ray(geometry, from, to);  // once for the tiles and every stretch
-
-  // The walk at the scale of tiles: the same crossing times (computed from the same boundary
-  // indices), the same order (at equal times up-steps first), gathered into stretches of owned
-  // tiles. Stretches that touch are joined: each crossing time then belongs to one stretch at
-  // most, so no cell is visited twice.
-  int32_t boundary[3];  // the next tile boundary, in tiles
-  double t_next[3];
-  for (int a = 0; a < 3; ++a) {
-    boundary[a] = tile[a] + ray.up[a];
-    t_next[a] = ray.step[a] != 0
-                    ? crossingTime(double(int64_t(boundary[a]) * edge) * r, from[a], ray.inv[a])
-                    : kInf;
-  }
-  stretches_.clear();
-  bool here = ownsTile(owned, tile);  // the current tile is owned
-  bool open = here;                   // a stretch is open
-  double t_in = -kInf;
-  for (;;) {
-    const double t = std::min(t_next[0], std::min(t_next[1], t_next[2]));
-    if (!(t <= 1.0)) break;
-    bool owned_on_the_way = false, moved = false;
-    for (const int direction : {1, -1}) {
-      bool moved_now = false;
-      for (int a = 0; a < 3; ++a) {
-        if (t_next[a] != t || ray.step[a] != direction) continue;
-        tile[a] += direction;
-        boundary[a] += direction;
-        t_next[a] = crossingTime(double(int64_t(boundary[a]) * edge) * r, from[a], ray.inv[a]);
-        moved_now = true;
-      }
-      if (moved_now && moved) owned_on_the_way = here;  // the tile between up- and down-steps
-      if (moved_now) here = ownsTile(owned, tile), moved = true;
-    }
-    const bool mine = here;
-    if (open && !mine) {
-      stretches_.push_back({t_in, t, first});
-      open = false;
-    } else if (!open && mine) {
-      t_in = t, open = true;
-    } else if (!open && owned_on_the_way) {
-      stretches_.push_back({t, t, first});  // an owned tile touched at one instant
-    }
-  }
-  if (open) stretches_.push_back({t_in, kInf, first});
-  if (stretches_.empty()) return;
-
   // A resume costs about as much as walking kJoinCells cells: shorter gaps of other tiles
   // (and a short start from the sensor) are walked through, their counts dropped later like
-  // the stretch ends'. The owned cells are visited once either way.
-  const double gap_cells = double(kJoinCells) / double(std::abs(int64_t(last.x) - first.x) +
-                                                       std::abs(int64_t(last.y) - first.y) +
-                                                       std::abs(int64_t(last.z) - first.z));
-  if (stretches_[0].t_in < gap_cells) stretches_[0].t_in = -kInf;
-  size_t kept = 0;
-  for (size_t k = 1; k < stretches_.size(); ++k) {
-    if (stretches_[k].t_in - stretches_[kept].t_out < gap_cells)
-      stretches_[kept].t_out = stretches_[k].t_out;
-    else
-      stretches_[++kept] = stretches_[k];
-  }
-  stretches_.resize(kept + 1);
+  // the stretch ends'. The owned cells are visited once either way. A span of time times the
+  // walk's steps is about the cells it walks then.
+  const double cells = double(std::abs(int64_t(last.x) - first.x) +
+                              std::abs(int64_t(last.y) - first.y) +
+                              std::abs(int64_t(last.z) - first.z));
 
-  // Where each stretch resumes: in the tile before it, not owned (else the stretches would
-  // have been joined). If any cannot resume, the whole walk (the walker filters it).
-  bool resumable = true;
-  for (Stretch& s : stretches_)
-    if (s.t_in != -kInf)
-      resumable = resumable && detail::cellBefore(geometry, from, to, ray, first, s.t_in, s.resume);
-  if (!resumable) {
-    stretches_.clear();
-    stretches_.push_back({-kInf, kInf, first});
+  // The stretches, in order; one that starts under kJoinCells after the one before joins it, so
+  // each crossing time belongs to one stretch at most and no cell is visited twice.
+  Stretch stretches[kMaxStretches];
+  int n = 0;
+  auto enter = [&](double t_in) {  // a stretch entered at t_in
+    if (n > 0 && ((t_in - stretches[n - 1].t_out) * cells < kJoinCells || n == kMaxStretches)) {
+      stretches[n - 1].t_out = kInf;  // (a ray crossing that many tiles: walked through)
+      return;
+    }
+    Stretch s{t_in, kInf, first};
+    // Resumed in the tile before it, not owned. A ray end within rounding of a boundary may
+    // leave no cell to resume at: then the walk goes on from the stretch before, or the start.
+    if (n == 0 && t_in * cells < kJoinCells) {
+      s.t_in = -kInf;
+    } else if (!detail::cellBefore(geometry, from, to, ray, first, t_in, s.resume)) {
+      if (n > 0) {
+        stretches[n - 1].t_out = kInf;
+        return;
+      }
+      s = {-kInf, kInf, first};
+    }
+    stretches[n++] = s;
+  };
+
+  // The walk at the scale of tiles: the same crossing times (computed from the same boundary
+  // indices), the same order (at equal times up-steps first).
+  int32_t boundary[3];  // the next tile boundary, in tiles
+  double t_next[3];
+  auto tileCrossing = [&](int a) {
+    return crossingTime(double(int64_t(boundary[a]) * edge) * r, from[a], ray.inv[a]);
+  };
+  for (int a = 0; a < 3; ++a) {
+    boundary[a] = tile[a] + ray.up[a];
+    t_next[a] = ray.step[a] != 0 ? tileCrossing(a) : kInf;
   }
-  for (const Stretch& s : stretches_) {
+  bool here = origin.owned;  // the current tile is owned
+  if (here) stretches[n++] = {-kInf, kInf, first};
+  for (;;) {
+    double t;
+    bool owned_on_the_way = false;
+    const int alone = t_next[0] < t_next[1] && t_next[0] < t_next[2]   ? 0
+                      : t_next[1] < t_next[0] && t_next[1] < t_next[2] ? 1
+                      : t_next[2] < t_next[0] && t_next[2] < t_next[1] ? 2
+                                                                       : -1;
+    const bool was_here = here;
+    if (alone >= 0) {  // one axis crosses: one tile on
+      t = t_next[alone];
+      if (!(t <= 1.0)) break;
+      tile[alone] += ray.step[alone];
+      boundary[alone] += ray.step[alone];
+      t_next[alone] = tileCrossing(alone);
+      here = origin.owner.ownsTile(tile);
+    } else {  // an edge or a corner: up-steps first, then down-steps
+      t = std::min(t_next[0], std::min(t_next[1], t_next[2]));
+      if (!(t <= 1.0)) break;
+      bool moved = false;
+      for (const int direction : {1, -1}) {
+        bool moved_now = false;
+        for (int a = 0; a < 3; ++a) {
+          if (t_next[a] != t || ray.step[a] != direction) continue;
+          tile[a] += direction;
+          boundary[a] += direction;
+          t_next[a] = tileCrossing(a);
+          moved_now = true;
+        }
+        if (moved_now && moved) owned_on_the_way = here;  // the tile between up- and down-steps
+        if (moved_now) here = origin.owner.ownsTile(tile), moved = true;
+      }
+    }
+    if (was_here && !here) {
+      stretches[n - 1].t_out = t;
+    } else if (!was_here && here) {
+      enter(t);
+    } else if (!was_here && owned_on_the_way) {  // an owned tile touched at one instant
+      enter(t);
+      stretches[n - 1].t_out = t;
+    }
+  }
+
+  for (int k = 0; k < n; ++k) {
+    const Stretch& s = stretches[k];
     if (s.resume == last) break;  // the walk ended before this stretch
     // The stretch's own cells only, where that is the walk's: a step along one axis alone at
     // t_in enters it (the cell before is another process's), and one at t_out leaves it (the
@@ -261,7 +268,7 @@ inline void OwnedRayWalk::walkOne(const GridGeometry& geometry, const Eigen::Vec
     // them, as the walk's corner rule decides what is touched there.
     const CellIndex start = s.t_in == -kInf ? s.resume : firstOwnedCell(geometry, from, ray, s);
     const bool ends = s.t_out <= 1.0;
-    detail::walkSegmentFrom(geometry, from, to, ray, start, ends ? s.t_out : 1.0,
+    detail::walkSegmentFrom(geometry, from, ray, start, ends ? s.t_out : 1.0,
                             ends ? detail::justBelow(s.t_out) : 1.0, s.t_in != -kInf, walker);
   }
 }

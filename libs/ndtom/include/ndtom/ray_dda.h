@@ -109,7 +109,10 @@ struct RaySteps {
   double inv[3];  ///< 1 / (to - from) per axis, 0 where the ray does not move
 
   RaySteps(const GridGeometry& geometry, const Eigen::Vector3d& from, const Eigen::Vector3d& to)
-      : last(geometry.cellOf(to)) {
+      : RaySteps(from, to, geometry.cellOf(to)) {}
+  /// With the cell of `to` already known.
+  RaySteps(const Eigen::Vector3d& from, const Eigen::Vector3d& to, const CellIndex& last_cell)
+      : last(last_cell) {
     for (int a = 0; a < 3; ++a) {
       const double delta = to[a] - from[a];
       step[a] = delta > 0 ? 1 : (delta < 0 ? -1 : 0);
@@ -130,7 +133,7 @@ struct RaySteps {
 template <class Walker>
 [[gnu::always_inline]] inline void walkSegmentFrom(const GridGeometry& geometry,
                                                    const Eigen::Vector3d& from,
-                                                   const Eigen::Vector3d& to, const RaySteps& ray,
+                                                   const RaySteps& ray,
                                                    const CellIndex& first, double t_end,
                                                    double t_single_end, bool resumed,
                                                    Walker& walker) {
@@ -229,7 +232,7 @@ template <class Walker>
                                                    const Eigen::Vector3d& from,
                                                    const Eigen::Vector3d& to, const CellIndex& first,
                                                    double t_end, Walker& walker) {
-  walkSegmentFrom(geometry, from, to, RaySteps(geometry, from, to), first, t_end, t_end, false,
+  walkSegmentFrom(geometry, from, RaySteps(geometry, from, to), first, t_end, t_end, false,
                   walker);
 }
 

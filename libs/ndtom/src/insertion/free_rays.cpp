@@ -1,34 +1,21 @@
 #include "free_rays.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "ndtom/owned_ray_walk.h"
+#include "ndtom/owned_tiles.h"
 #include "ndtom/ray_dda.h"
 
 namespace ndtom {
 
 namespace {
 
-// Rays [begin, end) through the owned tiles only. Not inlined: the serial walk's loop, in
-// the same caller, keeps its code (and its instruction count) as without it.
-[[gnu::noinline]] CountingWalker walkOwnedRays(const ScanContext& scan,
-                                               const ClassifiedPoints& points,
-                                               const EndGroups& groups, size_t begin, size_t end,
-                                               OwnedRayWalk& walk, CountingWalker count) {
-  if (scan.options.ray_mode == RayMode::PerPoint)
-    return walk.walkRays(
-        scan.geometry, scan.origin, begin, end, *scan.owned,
-        [&](size_t i, CountingWalker&) {
-          return points.kinds[i] == PointKind::kRejected ? nullptr : &points.ends[i];
-        },
-        count);
-  return walk.walkRays(
-      scan.geometry, scan.origin, begin, end, *scan.owned,
-      [&](size_t i, CountingWalker& walker) {
-        walker.setWeight(groups.groups[i].count);  // one ray per hit group, its weight
-        return &groups.groups[i].mean_end;
-      },
-      count);
+// Rays [begin, end) through the owned tiles only. Not inlined, as walkSerialRays below.
+template <class Walker, class RayEnd>
+[[gnu::noinline]] Walker walkOwnedRays(const ScanContext& scan, const OwnedTiles& tiles,
+                                       size_t begin, size_t end, RayEnd&& rayEnd, Walker count) {
+  return OwnedRayWalk::walkRays(scan.geometry, scan.origin, begin, end, tiles, rayEnd, count);
 }
 
 // The serial walk of rays [begin, end), one function per walker and ray end: compiled on its
@@ -93,6 +80,14 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
       bounds[t] = partRange(items, kPieces, piece).first;
     }
   }
+  // The owners of the tiles the rays cross: the box of their ends and the sensor.
+  std::optional<OwnedTiles> tiles;
+  if (scan.owned) {
+    const CellIndex o = geometry.cellOf(origin);
+    const CellIndex &lo = points.ends_lo, &hi = points.ends_hi;
+    tiles.emplace(*scan.owned, CellIndex{std::min(lo.x, o.x), std::min(lo.y, o.y), std::min(lo.z, o.z)},
+                  CellIndex{std::max(hi.x, o.x), std::max(hi.y, o.y), std::max(hi.z, o.z)});
+  }
   struct alignas(64) Cursor {  // the next ray of a range; own cache line
     std::atomic<size_t> next{0};
   };
@@ -111,36 +106,23 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
         }
       }
     };
-    if (scan.owned) {  // a process of a distributed build: its tiles' stretches of the rays
-      CountingWalker count(out.tables[t]);
-      OwnedRayWalk walk;
+    // One walker type and one call per mode keep the mode out of the per-ray loop; a
+    // distributed build's process walks only its tiles' stretches of the rays.
+    auto walkTakes = [&](auto count, auto&& endOf) {
       forEachTake([&](size_t begin, size_t end) {
-        count = walkOwnedRays(scan, points, groups, begin, end, walk, count);
+        count = scan.owned ? walkOwnedRays(scan, *tiles, begin, end, endOf, count)
+                           : walkSerialRays(scan, begin, end, endOf, count);
       });
       visits[t] = count.visits();
-      return;
-    }
-    // One walker type and one call per mode keep the mode out of the per-ray loop.
-    if (per_point) {
-      UnitCountingWalker count(out.tables[t]);
-      forEachTake([&](size_t begin, size_t end) {
-        count = walkSerialRays(
-            scan, begin, end, [&](size_t i, UnitCountingWalker&) { return rayEnd(i); }, count);
+    };
+    if (per_point)
+      walkTakes(UnitCountingWalker(out.tables[t]),
+                [&](size_t i, UnitCountingWalker&) { return rayEnd(i); });
+    else
+      walkTakes(CountingWalker(out.tables[t]), [&](size_t i, CountingWalker& walker) {
+        walker.setWeight(groups.groups[i].count);  // one ray per hit group, its weight
+        return &groups.groups[i].mean_end;
       });
-      visits[t] = count.visits();
-      return;
-    }
-    CountingWalker count(out.tables[t]);
-    forEachTake([&](size_t begin, size_t end) {
-      count = walkSerialRays(
-          scan, begin, end,
-          [&](size_t i, CountingWalker& walker) {
-            walker.setWeight(groups.groups[i].count);  // one ray per hit group, its weight
-            return &groups.groups[i].mean_end;
-          },
-          count);
-    });
-    visits[t] = count.visits();
   });
   // The stretches' walks also count a cell or two of other processes' tiles at their ends.
   if (scan.owned)

@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "../radix_sort.h"
+#include "ndtom/owned_tiles.h"
 
 namespace ndtom {
 
@@ -56,37 +57,6 @@ int keyByBlockRank(const ClassifiedPoints& points, const TileOwnership* hits_in,
   return key_bits;
 }
 
-// Whether each tile of the ray ends' box is owned, so that a point's test is a shift and a
-// load, not a hash (neighbouring points often lie in different blocks). Empty if the box has
-// too many tiles or they are not a power of two cells wide.
-struct OwnedTiles {
-  std::vector<uint8_t> owned;  ///< [(z * ny + y) * nx + x] from `lo`
-  CellIndex lo{};
-  int64_t nx = 0, ny = 0;
-  int shift = 0;  ///< log2 of the tile edge in cells
-
-  OwnedTiles(const TileOwnership& o, const CellIndex& cells_lo, const CellIndex& cells_hi) {
-    const int32_t edge = o.tileCells();
-    if ((edge & (edge - 1)) != 0) return;
-    shift = __builtin_ctz(uint32_t(edge));
-    lo = tileOf(cells_lo);
-    const CellIndex hi = tileOf(cells_hi);
-    nx = int64_t(hi.x) - lo.x + 1, ny = int64_t(hi.y) - lo.y + 1;
-    const int64_t nz = int64_t(hi.z) - lo.z + 1;
-    if (nx * ny * nz > (int64_t(1) << 20)) return;
-    owned.resize(size_t(nx * ny * nz));
-    size_t k = 0;
-    for (int32_t z = lo.z; z <= hi.z; ++z)
-      for (int32_t y = lo.y; y <= hi.y; ++y)
-        for (int32_t x = lo.x; x <= hi.x; ++x) owned[k++] = o.ownsTile({x, y, z});
-  }
-  CellIndex tileOf(const CellIndex& c) const { return {c.x >> shift, c.y >> shift, c.z >> shift}; }
-  bool owns(const CellIndex& c) const {
-    const CellIndex t = tileOf(c);
-    return owned[size_t((int64_t(t.z - lo.z) * ny + (t.y - lo.y)) * nx + (t.x - lo.x))] != 0;
-  }
-};
-
 // The words of the points keep(i) accepts, keyed by dense index in the ends' box of blocks
 // (from `lo`, nx × ny), in point order: each of classification's chunks keys its points from
 // its usual start; where points were left out, the chunks then move down to follow one another.
@@ -134,11 +104,9 @@ void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points,
   out.words.resize(points.used);
   if (key_bits + out.point_bits <= 64) {
     if (hits_in) {  // the hits in its tiles
-      const OwnedTiles tiles(*hits_in, points.ends_lo, points.ends_hi);
+      const OwnedTiles tiles(*hits_in, points.ends_lo, points.ends_hi);  // neighbours differ
       keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i) {
-        if (points.kinds[i] != PointKind::kHit) return false;
-        const CellIndex& c = points.end_cells[i];
-        return tiles.owned.empty() ? hits_in->ownsBlock(blockOf(c)) : tiles.owns(c);
+        return points.kinds[i] == PointKind::kHit && tiles.ownsCell(points.end_cells[i]);
       }, out);
     } else {  // every used point
       keyEndsInBox(scan, points, lo, nx, ny,
