@@ -40,18 +40,13 @@ class OwnedRayWalk {
   /// What every ray from one origin shares.
   struct Origin {
     CellIndex cell, tile;
-    OwnedTiles::Lookup owner;
-    bool owned;    ///< its tile
-    int32_t edge;  ///< tile edge in cells
-    int shift;     ///< log2(edge) for power-of-two edges, else -1
-    int32_t tileOf(int32_t c) const { return shift >= 0 ? c >> shift : floorDiv(c, edge); }
+    OwnedTiles::Lookup owner;  ///< a copy, kept in registers
+    bool owned;                ///< its tile
   };
   static Origin originOf(const GridGeometry& geometry, const Eigen::Vector3d& from,
                          const OwnedTiles& owned) {
     const CellIndex cell = geometry.cellOf(from), tile = owned.tileOf(cell);
-    const int32_t edge = owned.tileCells();
-    const int shift = (edge & (edge - 1)) == 0 ? __builtin_ctz(uint32_t(edge)) : -1;
-    return {cell, tile, owned.lookup(), owned.ownsTile(tile), edge, shift};
+    return {cell, tile, owned.lookup(), owned.ownsTile(tile)};
   }
   template <class Walker>
   [[gnu::always_inline]] static inline void walkOne(const GridGeometry& geometry,
@@ -150,7 +145,7 @@ inline void OwnedRayWalk::walkOne(const GridGeometry& geometry, const Eigen::Vec
   const CellIndex& first = origin.cell;
   const CellIndex last = geometry.cellOf(to);
   if (first == last) return;
-  const int32_t edge = origin.edge;
+  const int32_t edge = origin.owner.edge;
   CellIndex tile = origin.tile;
 
   // Most rays end in the tile they start in: then no crossing time is needed, unless the
@@ -158,7 +153,7 @@ inline void OwnedRayWalk::walkOne(const GridGeometry& geometry, const Eigen::Vec
   // walk step one cell past it).
   bool one_tile = true;
   for (int a = 0; a < 3 && one_tile; ++a) {
-    const int32_t end = last[a], end_tile = origin.tileOf(end), offset = end - end_tile * edge;
+    const int32_t end = last[a], end_tile = origin.owner.tileOf(end), offset = end - end_tile * edge;
     const double delta = to[a] - from[a];
     one_tile = end_tile == tile[a] && !(delta > 0 && offset == edge - 1) && !(delta < 0 && offset == 0);
   }

@@ -40,7 +40,7 @@ class OwnedTiles {
   const TileOwnership& ownership() const { return ownership_; }
   int32_t tileCells() const { return edge_; }  ///< tile edge in cells
 
-  int32_t tileOf(int32_t cell) const { return shift_ >= 0 ? cell >> shift_ : floorDiv(cell, edge_); }
+  int32_t tileOf(int32_t cell) const { return Lookup::tileOf(cell, edge_, shift_); }
   CellIndex tileOf(const CellIndex& c) const { return {tileOf(c.x), tileOf(c.y), tileOf(c.z)}; }
 
   /// The test as a small value, which a hot loop copies and keeps in registers (through the
@@ -50,6 +50,13 @@ class OwnedTiles {
     int64_t lo_x, lo_y, lo_z;
     uint64_t nx, ny, nz;
     const TileOwnership* ownership;
+    int32_t edge;  ///< tile edge in cells
+    int shift;     ///< log2(edge) for power-of-two edges, else -1
+
+    int32_t tileOf(int32_t cell) const { return tileOf(cell, edge, shift); }
+    static int32_t tileOf(int32_t cell, int32_t edge, int shift) {
+      return shift >= 0 ? cell >> shift : floorDiv(cell, edge);
+    }
     bool ownsTile(const CellIndex& tile) const {
       // Unsigned, so a tile below the box wraps to a large offset: one compare per axis.
       const uint64_t x = uint64_t(tile.x - lo_x), y = uint64_t(tile.y - lo_y),
@@ -58,7 +65,9 @@ class OwnedTiles {
       return ownership->ownsTile(tile);
     }
   };
-  Lookup lookup() const { return {owned_.data(), lo_.x, lo_.y, lo_.z, nx_, ny_, nz_, &ownership_}; }
+  Lookup lookup() const {
+    return {owned_.data(), lo_.x, lo_.y, lo_.z, nx_, ny_, nz_, &ownership_, edge_, shift_};
+  }
 
   bool ownsTile(const CellIndex& tile) const { return lookup().ownsTile(tile); }
   bool ownsCell(const CellIndex& cell) const { return ownsTile(tileOf(cell)); }
