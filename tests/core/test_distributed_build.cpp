@@ -4,7 +4,6 @@
 // put together are the serial map bit for bit, for either ray mode and any thread count.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -61,17 +60,15 @@ std::map<CellIndex, int> ownedWalks(const GridGeometry& g, const Eigen::Vector3d
                                     const Eigen::Vector3d& to, int tile_blocks, int ranks,
                                     size_t& steps) {
   std::map<CellIndex, int> cells;
-  ndtom::OwnedRayWalk walk;
   const CellIndex a = g.cellOf(from), b = g.cellOf(to);
-  const CellIndex lo{std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
-  const CellIndex hi{std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
+  const CellIndex lo = ndtom::cellwiseMin(a, b), hi = ndtom::cellwiseMax(a, b);
   for (int rank = 0; rank < ranks; ++rank) {
     const TileOwnership owned{tile_blocks, rank, ranks};
     RecordingWalker w{&owned, &cells};
     if (rank % 2 == 0)
-      walk.walk(g, from, to, ndtom::OwnedTiles(owned, lo, hi), w);
+      ndtom::OwnedRayWalk::walk(g, from, to, ndtom::OwnedTiles(owned, lo, hi), w);
     else
-      walk.walk(g, from, to, ndtom::OwnedTiles(owned), w);
+      ndtom::OwnedRayWalk::walk(g, from, to, ndtom::OwnedTiles(owned), w);
     steps += w.steps;
   }
   return cells;
@@ -205,11 +202,10 @@ TEST(OwnedRayWalk, StretchesEnteredAndLeftAlongOneAxisVisitOnlyTheirOwnCells) {
   for (const int ranks : {2, 3}) {
     std::map<CellIndex, int> cells;
     size_t foreign = 0, visits = 0;
-    ndtom::OwnedRayWalk walk;
     for (int rank = 0; rank < ranks; ++rank) {
       const TileOwnership owned{2, rank, ranks};
       RecordingWalker w{&owned, &cells};
-      walk.walk(g, from, to, ndtom::OwnedTiles(owned), w);
+      ndtom::OwnedRayWalk::walk(g, from, to, ndtom::OwnedTiles(owned), w);
       foreign += w.foreign;
     }
     for (const auto& [cell, n] : cells) visits += size_t(n);

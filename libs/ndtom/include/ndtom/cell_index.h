@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -25,6 +26,14 @@ struct CellIndex {
     return a.z < b.z;
   }
 };
+
+/// Per axis, the smaller and the larger index: the corners of the box holding both cells.
+inline CellIndex cellwiseMin(const CellIndex& a, const CellIndex& b) {
+  return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
+}
+inline CellIndex cellwiseMax(const CellIndex& a, const CellIndex& b) {
+  return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
+}
 
 struct CellIndexHash {
   size_t operator()(const CellIndex& c) const noexcept {

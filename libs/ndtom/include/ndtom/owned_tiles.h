@@ -37,9 +37,6 @@ class OwnedTiles {
               {int32_t(lo_.x + x), int32_t(lo_.y + y), int32_t(lo_.z + z)});
   }
 
-  const TileOwnership& ownership() const { return ownership_; }
-  int32_t tileCells() const { return edge_; }  ///< tile edge in cells
-
   int32_t tileOf(int32_t cell) const { return Lookup::tileOf(cell, edge_, shift_); }
   CellIndex tileOf(const CellIndex& c) const { return {tileOf(c.x), tileOf(c.y), tileOf(c.z)}; }
 

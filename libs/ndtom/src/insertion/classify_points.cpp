@@ -7,8 +7,8 @@ namespace ndtom {
 namespace {
 
 inline void widen(CellIndex& lo, CellIndex& hi, const CellIndex& c) {
-  lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
-  hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
+  lo = cellwiseMin(lo, c);
+  hi = cellwiseMax(hi, c);
 }
 
 /// What classifying a point reads, loaded once per thread.

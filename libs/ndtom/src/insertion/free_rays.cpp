@@ -84,9 +84,7 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
   std::optional<OwnedTiles> tiles;
   if (scan.owned) {
     const CellIndex o = geometry.cellOf(origin);
-    const CellIndex &lo = points.ends_lo, &hi = points.ends_hi;
-    tiles.emplace(*scan.owned, CellIndex{std::min(lo.x, o.x), std::min(lo.y, o.y), std::min(lo.z, o.z)},
-                  CellIndex{std::max(hi.x, o.x), std::max(hi.y, o.y), std::max(hi.z, o.z)});
+    tiles.emplace(*scan.owned, cellwiseMin(points.ends_lo, o), cellwiseMax(points.ends_hi, o));
   }
   struct alignas(64) Cursor {  // the next ray of a range; own cache line
     std::atomic<size_t> next{0};

@@ -104,7 +104,8 @@ void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points,
   out.words.resize(points.used);
   if (key_bits + out.point_bits <= 64) {
     if (hits_in) {  // the hits in its tiles
-      const OwnedTiles tiles(*hits_in, points.ends_lo, points.ends_hi);  // neighbours differ
+      // Neighbouring points often lie in different tiles: a table, not a hash per point.
+      const OwnedTiles tiles(*hits_in, points.ends_lo, points.ends_hi);
       keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i) {
         return points.kinds[i] == PointKind::kHit && tiles.ownsCell(points.end_cells[i]);
       }, out);
