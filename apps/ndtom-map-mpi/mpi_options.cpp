@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "ndtom/tiles.h"
 #include "ndtom_apps/option_values.h"
 
 namespace ndtom::mapper {
@@ -25,7 +26,7 @@ MpiOptions parseMpiOptions(int argc, char** argv) {
         throw apps::UsageError("--scan-input '" + v + "': use each or broadcast");
       }
     } else if (arg == "--rank-tiles") {
-      o.rank_tiles = int(apps::parseInteger("--rank-tiles", value(), 1, 4096));
+      o.rank_tiles = int(apps::parseInteger("--rank-tiles", value(), 1, ndtom::kMaxTileBlocks));
     } else {
       rest.push_back(argv[i]);
     }

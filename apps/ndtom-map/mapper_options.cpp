@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ndtom_apps/command_line.h"
+#include "ndtom/tiles.h"
 #include "ndtom_apps/option_values.h"
 
 namespace ndtom::mapper {
@@ -78,7 +79,7 @@ const apps::OptionTable<MapperOptions>& optionTable() {
       {"--tiles",
        {true,
         [](O& o, const std::string& v) {
-          o.tile_blocks = int(parseInteger("--tiles", v, 1, 4096));
+          o.tile_blocks = int(parseInteger("--tiles", v, 1, ndtom::kMaxTileBlocks));
         }}},
       {"--resident-budget",
        {true,

@@ -17,7 +17,6 @@ namespace {
 
 constexpr char kMagic[8] = {'N', 'D', 'T', 'O', 'M', 'T', 'I', 'L'};
 constexpr uint32_t kVersion = 1;
-constexpr int kMaxTileBlocks = 4096;
 constexpr size_t kIndexEntryBytes = 3 * 4 + 3 * 8;
 constexpr size_t kTrailerBytes = 8 + 4;
 
@@ -33,14 +32,6 @@ uint64_t getLE(const std::string& in, size_t at, int bytes) {
   return v;
 }
 
-int32_t floorDiv(int32_t a, int32_t b) {
-  return a / b - ((a % b != 0) && ((a < 0) != (b < 0)));
-}
-
-CellIndex tileOf(const CellIndex& cell, int tile_cells) {
-  return {floorDiv(cell.x, tile_cells), floorDiv(cell.y, tile_cells), floorDiv(cell.z, tile_cells)};
-}
-
 std::string optionsBlock(const MapOptions& options) {
   const std::vector<uint8_t> bytes = encodeMap(NdtMap(options));
   return std::string(bytes.begin(), bytes.end());
@@ -51,10 +42,6 @@ void copyCell(const CellView& c, NdtMap& to) {
 }
 
 }  // namespace
-
-CellIndex tileOfBlock(const CellIndex& block, int tile_blocks) {
-  return tileOf(block, tile_blocks);
-}
 
 Eigen::AlignedBox3d tileBoxOf(const CellIndex& tile, int tile_blocks, double resolution) {
   const double edge = tile_blocks * kBlockEdge * resolution;
@@ -88,7 +75,7 @@ void saveTiledMap(const MapOptions& map_options, const std::string& path, int ti
       if (firstDifference(tile.options(), map_options, OptionScope::Map))
         throw std::invalid_argument("tiled map: a tile with other options than the map");
       tile.forEachCell([&](const CellView& c) {
-        if (tileOf(c.index, tile_cells) != key)
+        if (tileHolding(c.index, tile_cells) != key)
           throw std::invalid_argument("tiled map: a cell outside its tile");
       });
       last = key;
@@ -120,7 +107,7 @@ void saveTiledMap(const NdtMap& map, const std::string& path, int tile_blocks) {
   const int tile_cells = tile_blocks * kBlockEdge;
   std::map<CellIndex, NdtMap> tiles;  // ordered: the index's order
   map.forEachCellOrdered([&](const CellView& c) {
-    const CellIndex key = tileOf(c.index, tile_cells);
+    const CellIndex key = tileHolding(c.index, tile_cells);
     auto it = tiles.find(key);
     if (it == tiles.end()) it = tiles.emplace(key, NdtMap(map.options())).first;
     copyCell(c, it->second);
@@ -219,7 +206,7 @@ NdtMap TiledMapFile::loadTile(const TileInfo& tile, uint64_t memory_budget) cons
   const int tile_cells = tile_blocks_ * kBlockEdge;
   size_t cells = 0;
   map.forEachCell([&](const CellView& c) {
-    if (tileOf(c.index, tile_cells) != tile.tile)
+    if (tileHolding(c.index, tile_cells) != tile.tile)
       throw MapFormatError(source + ": a cell outside the tile");
     ++cells;
   });

@@ -11,6 +11,7 @@
 
 #include "ndtom/block_grid.h"
 #include "ndtom/cell_index.h"
+#include "ndtom/tiles.h"
 
 namespace ndtom {
 
@@ -19,11 +20,12 @@ struct TileOwnership {
   int rank = 0;         ///< this process, 0..ranks-1
   int ranks = 1;
 
-  /// Throws std::invalid_argument for a tile size outside 1..4096 or a rank outside 0..ranks-1.
+  /// Throws std::invalid_argument for a tile size outside 1..kMaxTileBlocks or a rank outside
+  /// 0..ranks-1.
   void validate() const {
-    if (tile_blocks < 1 || tile_blocks > 4096)
+    if (tile_blocks < 1 || tile_blocks > kMaxTileBlocks)
       throw std::invalid_argument("TileOwnership: tile_blocks " + std::to_string(tile_blocks) +
-                                  " is not in 1..4096");
+                                  " is not in 1.." + std::to_string(kMaxTileBlocks));
     if (ranks < 1 || rank < 0 || rank >= ranks)
       throw std::invalid_argument("TileOwnership: rank " + std::to_string(rank) + " of " +
                                   std::to_string(ranks) + " processes");
@@ -43,8 +45,7 @@ struct TileOwnership {
   }
   bool ownsTile(const CellIndex& tile) const { return ranks == 1 || ownerOfTile(tile) == rank; }
   bool ownsBlock(const CellIndex& block) const {
-    return ownsTile({floorDiv(block.x, tile_blocks), floorDiv(block.y, tile_blocks),
-                     floorDiv(block.z, tile_blocks)});
+    return ownsTile(tileOfBlock(block, tile_blocks));
   }
   int tileCells() const { return tile_blocks * kBlockEdge; }  ///< tile edge in cells
 };

@@ -4,7 +4,7 @@
 //
 //   "NDTOMTIL"                8-byte magic
 //   u32 version               1
-//   u32 tile_blocks           tile edge in blocks (1..4096)
+//   u32 tile_blocks           tile edge in blocks (1..kMaxTileBlocks, tiles.h)
 //   u64 size, bytes           the map's options: an empty map in the map format
 //   the tiles' map files, back to back, in tile order
 //   u64 tile count, then per tile (ascending x, y, z): i32 x, y, z (tile coordinates),
@@ -27,6 +27,7 @@
 #include "ndtom/cell_index.h"
 #include "ndtom/map_io.h"
 #include "ndtom/ndt_map.h"
+#include "ndtom/tiles.h"
 
 namespace ndtom {
 
@@ -37,7 +38,7 @@ struct TileInfo {
 };
 
 /// Writes `map` to `path` as tiles of `tile_blocks` blocks a side (atomically, as saveMap).
-/// Throws std::invalid_argument for tile_blocks outside 1..4096, std::runtime_error naming the
+/// Throws std::invalid_argument for tile_blocks outside 1..kMaxTileBlocks, std::runtime_error naming the
 /// path if it cannot be written.
 void saveTiledMap(const NdtMap& map, const std::string& path, int tile_blocks);
 
@@ -50,11 +51,9 @@ using TileSink = std::function<void(const CellIndex& tile, const NdtMap& cells)>
 void saveTiledMap(const MapOptions& options, const std::string& path, int tile_blocks,
                   const std::function<void(const TileSink&)>& fill);
 
-/// The tile of a block, for tiles of `tile_blocks` blocks a side.
-CellIndex tileOfBlock(const CellIndex& block, int tile_blocks);
 /// The space a tile of `tile_blocks` blocks a side covers at `resolution`.
 Eigen::AlignedBox3d tileBoxOf(const CellIndex& tile, int tile_blocks, double resolution);
-/// Throws std::invalid_argument naming `what` unless tile_blocks is in 1..4096.
+/// Throws std::invalid_argument naming `what` unless tile_blocks is in 1..kMaxTileBlocks.
 void checkTileBlocks(int tile_blocks, const std::string& what);
 
 class TiledMapFile {
