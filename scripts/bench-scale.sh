@@ -13,14 +13,18 @@
 # temporaries are removed.
 # Usage: scripts/bench-scale.sh [BUILD_DIR (build, a Release build)]
 # Settings (environment): KM_A=1 KM_B=3 STEP_B=2 DRIVE_STEP=6 RES=0.4 TILES=8 RADIUS=50
-# LOC_RANGE=40 MARGIN_B=1 MAP_BUDGET_B=4000 (MB, ndtom-map --memory-budget for b's map) PARTS=ab (a, b or both) RUNS=2 (for a) RUNS_B=1 (for b: its map bytes are the same every run). About
-# 20 minutes on 2 busy cores, most of it localizing (0.6-1.5 s a scan).
+# LOC_RANGE=40 MARGIN_B=1 MAP_KM_B=KM_B (km of b's map drive: longer maps past the drive's end)
+# MAP_BUDGET_B=4000 (MB, ndtom-map --memory-budget for b's map)
+# MAP_RESIDENT_B= (MB: build b's map out of core, ndtom-map --resident-budget, so that the map
+# never is whole in memory, neither built nor localized in) PARTS=ab (a, b or both) RUNS=2
+# (for a) RUNS_B=1 (for b: its map bytes are the same every run). About 20 minutes on 2 busy
+# cores, most of it localizing (0.6-1.5 s a scan).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 km_a=${KM_A:-1} km_b=${KM_B:-3} step_b=${STEP_B:-2} drive_step=${DRIVE_STEP:-6} res=${RES:-0.4} tiles=${TILES:-8}
 radius=${RADIUS:-50} loc_range=${LOC_RANGE:-40} margin_b=${MARGIN_B:-1}
-map_budget_b=${MAP_BUDGET_B:-4000} runs=${RUNS:-2} runs_b=${RUNS_B:-1}
+map_km_b=${MAP_KM_B:-$km_b} map_budget_b=${MAP_BUDGET_B:-4000} map_resident_b=${MAP_RESIDENT_B:-} runs=${RUNS:-2} runs_b=${RUNS_B:-1}
 parts=${PARTS:-ab}
 grep -q 'CMAKE_BUILD_TYPE:STRING=Release' "$build/CMakeCache.txt" ||
   { echo "bench-scale: $build is not a Release build" >&2; exit 1; }
@@ -28,7 +32,7 @@ cmake --build "$build" -j2 --target ndtom-map ndtom-worldgen ndtom-localize >/de
 bin="$build/apps"
 work=$(mktemp -d "${TMPDIR:-/tmp}/ndtom-bench-scale.XXXXXX")
 trap 'rm -rf "$work"' EXIT
-need_gb=$(awk -v k="$km_b" 'BEGIN{printf "%d", 2 + k + 0.999}')  # ~0.3 GB of PCD a km at 1 m steps, the maps
+need_gb=$(awk -v k="$map_km_b" 'BEGIN{printf "%d", 2 + k + 0.999}')  # ~0.3 GB of PCD a km at 1 m steps, the maps
 avail_gb=$(df -BG --output=avail "$work" | tail -1 | tr -dc 0-9)
 (( avail_gb >= need_gb )) || { echo "bench-scale: $avail_gb GB free in $work, need $need_gb" >&2; exit 1; }
 mkdir -p doc/benchmarks
@@ -86,19 +90,26 @@ fi
 
 # --- (b) localization memory per km ------------------------------------------------------
 if [[ $parts == *b* ]]; then
-log "(b) a $km_b km drive for the map (a scan every $step_b m)"
-"$bin/ndtom-worldgen/ndtom-worldgen" "$work/city_b" --km "$km_b" --step "$step_b" --margin "$margin_b" \
-  --threads 2 -q
+log "(b) the drive to localize: $km_b km, a scan every $drive_step m, its own noise"
+drive_said=$("$bin/ndtom-worldgen/ndtom-worldgen" "$work/drive" --km "$km_b" --step "$drive_step" \
+  --noise-seed 2 --margin "$margin_b" --threads 2)
+raise "$work/drive"
+# The map's drive goes through the same city: with its blocks and seed, a longer route starts
+# with the shorter one (crossings are chosen greedily), so MAP_KM_B > KM_B maps past the end.
+blocks=$(sed -n 's/.* city of \([0-9]*\)x[0-9]* blocks.*/\1/p' <<<"$drive_said")
+[[ -n $blocks ]] || { echo "bench-scale: no city size in: $drive_said" >&2; exit 1; }
+log "(b) a $map_km_b km drive for the map through its $blocks x $blocks blocks (a scan every $step_b m)"
+"$bin/ndtom-worldgen/ndtom-worldgen" "$work/city_b" --km "$map_km_b" --blocks "$blocks" \
+  --step "$step_b" --margin "$margin_b" --threads 2 -q
 raise "$work/city_b"
 # The default budget (512 MB) stops a map of over ~4 km.
+out_of_core=()
+[[ -n $map_resident_b ]] && out_of_core=(--resident-budget "$map_resident_b")
+log "(b) building its map${map_resident_b:+ out of core, $map_resident_b MB resident}"
 "$bin/ndtom-map/ndtom-map" "$work/city_b" --resolution "$res" --tiles "$tiles" --no-pictures -q \
-  --memory-budget "$map_budget_b" -o "$work/city"
+  --memory-budget "$map_budget_b" "${out_of_core[@]}" -o "$work/city"
 rm -rf "$work/city_b"
 rm -f "$work"/city.3Dscene "$work"/city.ndtommap
-log "(b) the drive to localize: the same streets, a scan every $drive_step m, other noise"
-"$bin/ndtom-worldgen/ndtom-worldgen" "$work/drive" --km "$km_b" --step "$drive_step" --noise-seed 2 \
-  --margin "$margin_b" --threads 2 -q
-raise "$work/drive"
 initial=$(head -1 "$work/drive/poses.txt" | python3 -c '
 import sys, math
 m = [float(x) for x in sys.stdin.read().split()]
@@ -117,12 +128,13 @@ import csv, json, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 summary = json.load(open(sys.argv[2]))
 run, step = sys.argv[3], float(sys.argv[4])
-# Kilometres along the route (scan i is i * step metres in); a partial last one is left out.
+# Kilometres along the route (scan i is i * step metres in). A km is whole when the drive
+# reaches its last step (5 km at 6 m ends at 4,998 m); a shorter last one is left out.
 per_km = {}
 for r in rows:
     per_km.setdefault(int(int(r["index"]) * step // 1000), []).append(r)
 driven = (len(rows) - 1) * step
-full = [k for k in sorted(per_km) if (k + 1) * 1000 <= driven + 1e-6]
+full = [k for k in sorted(per_km) if (k + 1) * 1000 < driven + step - 1e-6]
 print(f"b,{run},scans,{len(rows)}")
 print(f"b,{run},lost,{sum(r['outcome'] == 'lost' for r in rows)}")
 errors = sorted(float(r["error_m"]) for r in rows if r["error_m"])
@@ -143,7 +155,13 @@ EOF
 done
 row b 0 whole_map_mb "$(python3 -c "print($(json "$work/city.summary.json" map map_bytes) / 1e6)")"
 row b 0 map_scans "$(json "$work/city.summary.json" scans_inserted)"
+row b 0 map_km "$map_km_b"
 row b 0 margin_blocks "$margin_b"
+row b 0 map_peak_rss_mb "$(python3 -c "print($(json "$work/city.summary.json" memory peak_rss_after_mapping_bytes) / 1e6)")"
+if [[ -n $map_resident_b ]]; then
+  row b 0 map_resident_budget_mb "$map_resident_b"
+  row b 0 map_peak_resident_mb "$(python3 -c "print($(json "$work/city.summary.json" memory out_of_core peak_resident_bytes) / 1e6)")"
+fi
 fi
 
 # --- Summary -------------------------------------------------------------------------------
@@ -172,7 +190,12 @@ if ratio:
         f"tiled files identical: {'yes' if min(vals('a', 'tiled_files_identical')) == 1 else 'NO'}.\n")
 print(f"## Localizing through {km_b} km, --region-radius {radius}, --max-range {loc_range}, "
       f"drives --margin {margin_b}\n")
-print(f"Whole map {rng('b', 'whole_map_mb', '{:.0f}')} MB ({rng('b', 'map_scans', '{:.0f}')} scans); "
+built = (f"built out of core (--resident-budget {rng('b', 'map_resident_budget_mb', '{:.0f}')} MB: "
+         f"peak resident {rng('b', 'map_peak_resident_mb', '{:.0f}')} MB, "
+         if vals("b", "map_resident_budget_mb") else "built in memory (")
+built += f"peak RSS {rng('b', 'map_peak_rss_mb', '{:.0f}')} MB)"
+print(f"Whole map {rng('b', 'whole_map_mb', '{:.0f}')} MB ({rng('b', 'map_km', '{:g}')} km, "
+      f"{rng('b', 'map_scans', '{:.0f}')} scans), {built}; "
       f"{rng('b', 'scans', '{:.0f}')} scans localized, {rng('b', 'lost', '{:.0f}')} lost, "
       f"median error {rng('b', 'median_error_m', '{:.3f}')} m; most tiles resident "
       f"{rng('b', 'max_resident_tiles', '{:.0f}')} of {rng('b', 'tiles_in_file', '{:.0f}')}.\n")
