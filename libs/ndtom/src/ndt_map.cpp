@@ -329,8 +329,7 @@ NdtMap NdtMap::coarsened(int factor) const {
   // not depend on the hash table's history (RCU is exact but not associative in floating
   // point), so equal maps, e.g. a map and its saved and loaded copy, coarsen to equal bits.
   forEachCellOrdered([&](const CellView& fine) {
-    const CellIndex index{floorDiv(fine.index.x, factor), floorDiv(fine.index.y, factor),
-                          floorDiv(fine.index.z, factor)};
+    const CellIndex index = cellwiseFloorDiv(fine.index, factor);
     const auto existing = coarse.cell(index);
     const float logodds = existing ? std::max(existing->logodds, fine.logodds) : fine.logodds;
     CellStats stats = existing && existing->stats ? *existing->stats : CellStats{};

@@ -58,7 +58,6 @@ void checkTileBlocks(int tile_blocks, const std::string& what) {
 void saveTiledMap(const MapOptions& map_options, const std::string& path, int tile_blocks,
                   const std::function<void(const TileSink&)>& fill) {
   checkTileBlocks(tile_blocks, "tiled map");
-  const int tile_cells = tile_blocks * kBlockEdge;
   std::string header(kMagic, sizeof kMagic);
   putU32(header, kVersion);
   putU32(header, uint32_t(tile_blocks));
@@ -75,7 +74,7 @@ void saveTiledMap(const MapOptions& map_options, const std::string& path, int ti
       if (firstDifference(tile.options(), map_options, OptionScope::Map))
         throw std::invalid_argument("tiled map: a tile with other options than the map");
       tile.forEachCell([&](const CellView& c) {
-        if (tileHolding(c.index, tile_cells) != key)
+        if (tileOfCell(c.index, tile_blocks) != key)
           throw std::invalid_argument("tiled map: a cell outside its tile");
       });
       last = key;
@@ -104,10 +103,9 @@ void saveTiledMap(const MapOptions& map_options, const std::string& path, int ti
 
 void saveTiledMap(const NdtMap& map, const std::string& path, int tile_blocks) {
   checkTileBlocks(tile_blocks, "tiled map");
-  const int tile_cells = tile_blocks * kBlockEdge;
   std::map<CellIndex, NdtMap> tiles;  // ordered: the index's order
   map.forEachCellOrdered([&](const CellView& c) {
-    const CellIndex key = tileHolding(c.index, tile_cells);
+    const CellIndex key = tileOfCell(c.index, tile_blocks);
     auto it = tiles.find(key);
     if (it == tiles.end()) it = tiles.emplace(key, NdtMap(map.options())).first;
     copyCell(c, it->second);
@@ -203,10 +201,9 @@ NdtMap TiledMapFile::loadTile(const TileInfo& tile, uint64_t memory_budget) cons
                          memory_budget);
   if (firstDifference(map.options(), options_, OptionScope::Map))
     throw MapFormatError(source + ": options differ from the file's");
-  const int tile_cells = tile_blocks_ * kBlockEdge;
   size_t cells = 0;
   map.forEachCell([&](const CellView& c) {
-    if (tileHolding(c.index, tile_cells) != tile.tile)
+    if (tileOfCell(c.index, tile_blocks_) != tile.tile)
       throw MapFormatError(source + ": a cell outside the tile");
     ++cells;
   });

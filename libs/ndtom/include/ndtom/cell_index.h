@@ -110,4 +110,9 @@ inline int32_t floorDiv(int32_t i, int32_t k) {
   return (i % k != 0 && i < 0) ? q - 1 : q;
 }
 
+/// The index of the cube of `k` a side that holds `c`, on a grid `k` times coarser.
+inline CellIndex cellwiseFloorDiv(const CellIndex& c, int32_t k) {
+  return {floorDiv(c.x, k), floorDiv(c.y, k), floorDiv(c.z, k)};
+}
+
 }  // namespace ndtom

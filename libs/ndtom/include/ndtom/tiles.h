@@ -2,8 +2,7 @@
 // stores, an out-of-core map spills and a distributed build hands to one process.
 #pragma once
 
-#include <cstdint>
-
+#include "ndtom/block_grid.h"
 #include "ndtom/cell_index.h"
 
 namespace ndtom {
@@ -12,15 +11,14 @@ namespace ndtom {
 /// make a reader loop over absurd tiles.
 constexpr int kMaxTileBlocks = 4096;
 
-/// The cube of `edge` a side that holds `index`: a block's tile for an edge in blocks, a
-/// cell's for an edge in cells.
-inline CellIndex tileHolding(const CellIndex& index, int32_t edge) {
-  return {floorDiv(index.x, edge), floorDiv(index.y, edge), floorDiv(index.z, edge)};
-}
-
 /// The tile of a block, for tiles of `tile_blocks` blocks a side.
 inline CellIndex tileOfBlock(const CellIndex& block, int tile_blocks) {
-  return tileHolding(block, tile_blocks);
+  return cellwiseFloorDiv(block, tile_blocks);
+}
+
+/// The tile of a cell, for tiles of `tile_blocks` blocks a side.
+inline CellIndex tileOfCell(const CellIndex& cell, int tile_blocks) {
+  return cellwiseFloorDiv(cell, tile_blocks * kBlockEdge);
 }
 
 }  // namespace ndtom
