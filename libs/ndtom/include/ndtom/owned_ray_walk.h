@@ -17,8 +17,11 @@
 
 namespace ndtom {
 
-/// Walks rays through the owned tiles (no state: a class for its private helpers).
-class OwnedRayWalk {
+/// Walks rays through the owned tiles (no state: a class for its private helpers). Hidden:
+/// its out-of-line helpers are called directly, not through a shared library's PLT.
+class [[gnu::visibility("hidden")]] OwnedRayWalk {
+  static constexpr int kMaxStretchesPerRay = 16;
+
  public:
   /// Visits, in order, the cells of walkRay(from, to) that lie in tiles `owned` owns, with
   /// walkRay's walker interface, and a few more: each stretch of owned tiles is walked from
@@ -41,12 +44,14 @@ class OwnedRayWalk {
   struct Origin {
     CellIndex cell, tile;
     OwnedTiles::Lookup owner;  ///< a copy, kept in registers
+    int64_t index;             ///< its tile's in the table of owners, -1 if none
     bool owned;                ///< its tile
   };
   static Origin originOf(const GridGeometry& geometry, const Eigen::Vector3d& from,
                          const OwnedTiles& owned) {
     const CellIndex cell = geometry.cellOf(from), tile = owned.tileOf(cell);
-    return {cell, tile, owned.lookup(), owned.ownsTile(tile)};
+    const OwnedTiles::Lookup owner = owned.lookup();
+    return {cell, tile, owner, owner.indexOf(tile), owned.ownsTile(tile)};
   }
   template <class Walker>
   [[gnu::always_inline]] static inline void walkOne(const GridGeometry& geometry,
@@ -58,12 +63,51 @@ class OwnedRayWalk {
     double t_in, t_out;  ///< entered at t_in (-inf: at the start), left at t_out (+inf: never)
     CellIndex resume;    ///< the walk's cell after every crossing before t_in
   };
+  /// A ray's stretches, in order; one that starts under kJoinCells after the one before joins
+  /// it, so each crossing time belongs to one stretch at most and no cell is visited twice.
+  struct Stretches {
+    Stretches(const GridGeometry& g, const Eigen::Vector3d& f, const Eigen::Vector3d& t,
+              const detail::RaySteps& steps, const CellIndex& first_cell)
+        : geometry(g), from(f), to(t), ray(steps), first(first_cell) {}  // list left unset
+    const GridGeometry& geometry;
+    const Eigen::Vector3d &from, &to;
+    const detail::RaySteps& ray;
+    const CellIndex& first;
+    Stretch list[kMaxStretchesPerRay];
+    int n = 0;
+    double cells = -1;  ///< the walk's steps, once needed
+
+    void enter(double t_in);
+    void leave(double t_out) { list[n - 1].t_out = t_out; }
+  };
+
+  /// The owner of the walk's current tile at the scale of tiles, as an index in the table of
+  /// owners that follows the walk's steps (every tile the walk enters is in the table).
+  struct TableSteps {
+    const uint8_t* owned;
+    int64_t index;
+    int64_t delta[3];  ///< the index's change per step on each axis
+    void step(int axis) { index += delta[axis]; }
+    bool owns() const { return owned[index] != 0; }
+  };
+  /// The same by the tile's coordinates, for tiles the table may not hold.
+  struct LookupSteps {
+    const OwnedTiles::Lookup& lookup;
+    CellIndex tile;
+    const int32_t* delta;  ///< the ray's steps
+    void step(int axis) { tile[axis] += delta[axis]; }
+    bool owns() const { return lookup.ownsTile(tile); }
+  };
+  /// The walk at the scale of tiles from the origin's tile (`here`: owned), into `out`.
+  template <class Owner>
+  [[gnu::always_inline]] static inline void findStretches(const Eigen::Vector3d& from, int32_t edge, const CellIndex& tile, bool here,
+                            Owner owner, Stretches& out);
+
   /// The cell after the resume cell if the walk enters the stretch by one step there, else
   /// the resume cell.
   static CellIndex firstOwnedCell(const GridGeometry& geometry, const Eigen::Vector3d& from,
                                   const detail::RaySteps& ray, const Stretch& s);
   static constexpr int kJoinCells = 8;
-  static constexpr int kMaxStretches = 16;
 };
 
 // --- Implementation --------------------------------------------------------------------
@@ -145,19 +189,21 @@ inline void OwnedRayWalk::walkOne(const GridGeometry& geometry, const Eigen::Vec
   const CellIndex& first = origin.cell;
   const CellIndex last = geometry.cellOf(to);
   if (first == last) return;
-  const int32_t edge = origin.owner.edge;
-  CellIndex tile = origin.tile;
+  const OwnedTiles::Lookup& owner = origin.owner;
+  const int32_t edge = owner.edge;
+  const CellIndex end_tile{owner.tileOf(last.x), owner.tileOf(last.y), owner.tileOf(last.z)};
 
   // Most rays end in the tile they start in: then no crossing time is needed, unless the
   // ray's end cell lies on the face of the tile it moves towards (where rounding may let the
   // walk step one cell past it).
-  bool one_tile = true;
-  for (int a = 0; a < 3 && one_tile; ++a) {
-    const int32_t end = last[a], end_tile = origin.owner.tileOf(end), offset = end - end_tile * edge;
-    const double delta = to[a] - from[a];
-    one_tile = end_tile == tile[a] && !(delta > 0 && offset == edge - 1) && !(delta < 0 && offset == 0);
-  }
-  if (one_tile) {
+  auto staysIn = [edge](int32_t end, int32_t end_tile_a, int32_t tile_a, double delta) {
+    const int32_t offset = end - end_tile_a * edge;
+    return end_tile_a == tile_a && !(delta > 0 && offset == edge - 1) &&
+           !(delta < 0 && offset == 0);
+  };
+  if (staysIn(last.x, end_tile.x, origin.tile.x, to.x() - from.x()) &&
+      staysIn(last.y, end_tile.y, origin.tile.y, to.y() - from.y()) &&
+      staysIn(last.z, end_tile.z, origin.tile.z, to.z() - from.z())) {
     if (origin.owned)
       detail::walkSegmentFrom(geometry, from, detail::RaySteps(from, to, last), first, 1.0, 1.0,
                               false, walker);
@@ -165,97 +211,23 @@ inline void OwnedRayWalk::walkOne(const GridGeometry& geometry, const Eigen::Vec
   }
   const detail::RaySteps ray(from, to, last);  // once for the tiles and every stretch
 
-  const double r = geometry.resolution();
+  // The walk enters only tiles between the origin's and one past the end's (rounding), so if
+  // that one is in the table, so are all.
+  Stretches stretches{geometry, from, to, ray, first};
+  if (origin.index >= 0 && owner.holdsAround(end_tile)) {
+    const int64_t nx = int64_t(owner.nx), nxy = nx * int64_t(owner.ny);
+    findStretches(from, edge, origin.tile, origin.owned,
+                  TableSteps{owner.owned, origin.index,
+                             {ray.step[0], ray.step[1] * nx, ray.step[2] * nxy}},
+                  stretches);
+  } else {
+    findStretches(from, edge, origin.tile, origin.owned,
+                  LookupSteps{owner, origin.tile, ray.step}, stretches);
+  }
+
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  // A resume costs about as much as walking kJoinCells cells: shorter gaps of other tiles
-  // (and a short start from the sensor) are walked through, their counts dropped later like
-  // the stretch ends'. The owned cells are visited once either way. A span of time times the
-  // walk's steps is about the cells it walks then.
-  const double cells = double(std::abs(int64_t(last.x) - first.x) +
-                              std::abs(int64_t(last.y) - first.y) +
-                              std::abs(int64_t(last.z) - first.z));
-
-  // The stretches, in order; one that starts under kJoinCells after the one before joins it, so
-  // each crossing time belongs to one stretch at most and no cell is visited twice.
-  Stretch stretches[kMaxStretches];
-  int n = 0;
-  auto enter = [&](double t_in) {  // a stretch entered at t_in
-    if (n > 0 && ((t_in - stretches[n - 1].t_out) * cells < kJoinCells || n == kMaxStretches)) {
-      stretches[n - 1].t_out = kInf;  // (a ray crossing that many tiles: walked through)
-      return;
-    }
-    Stretch s{t_in, kInf, first};
-    // Resumed in the tile before it, not owned. A ray end within rounding of a boundary may
-    // leave no cell to resume at: then the walk goes on from the stretch before, or the start.
-    if (n == 0 && t_in * cells < kJoinCells) {
-      s.t_in = -kInf;
-    } else if (!detail::cellBefore(geometry, from, to, ray, first, t_in, s.resume)) {
-      if (n > 0) {
-        stretches[n - 1].t_out = kInf;
-        return;
-      }
-      s = {-kInf, kInf, first};
-    }
-    stretches[n++] = s;
-  };
-
-  // The walk at the scale of tiles: the same crossing times (computed from the same boundary
-  // indices), the same order (at equal times up-steps first).
-  int32_t boundary[3];  // the next tile boundary, in tiles
-  double t_next[3];
-  auto tileCrossing = [&](int a) {
-    return crossingTime(double(int64_t(boundary[a]) * edge) * r, from[a], ray.inv[a]);
-  };
-  for (int a = 0; a < 3; ++a) {
-    boundary[a] = tile[a] + ray.up[a];
-    t_next[a] = ray.step[a] != 0 ? tileCrossing(a) : kInf;
-  }
-  bool here = origin.owned;  // the current tile is owned
-  if (here) stretches[n++] = {-kInf, kInf, first};
-  for (;;) {
-    double t;
-    bool owned_on_the_way = false;
-    const int alone = t_next[0] < t_next[1] && t_next[0] < t_next[2]   ? 0
-                      : t_next[1] < t_next[0] && t_next[1] < t_next[2] ? 1
-                      : t_next[2] < t_next[0] && t_next[2] < t_next[1] ? 2
-                                                                       : -1;
-    const bool was_here = here;
-    if (alone >= 0) {  // one axis crosses: one tile on
-      t = t_next[alone];
-      if (!(t <= 1.0)) break;
-      tile[alone] += ray.step[alone];
-      boundary[alone] += ray.step[alone];
-      t_next[alone] = tileCrossing(alone);
-      here = origin.owner.ownsTile(tile);
-    } else {  // an edge or a corner: up-steps first, then down-steps
-      t = std::min(t_next[0], std::min(t_next[1], t_next[2]));
-      if (!(t <= 1.0)) break;
-      bool moved = false;
-      for (const int direction : {1, -1}) {
-        bool moved_now = false;
-        for (int a = 0; a < 3; ++a) {
-          if (t_next[a] != t || ray.step[a] != direction) continue;
-          tile[a] += direction;
-          boundary[a] += direction;
-          t_next[a] = tileCrossing(a);
-          moved_now = true;
-        }
-        if (moved_now && moved) owned_on_the_way = here;  // the tile between up- and down-steps
-        if (moved_now) here = origin.owner.ownsTile(tile), moved = true;
-      }
-    }
-    if (was_here && !here) {
-      stretches[n - 1].t_out = t;
-    } else if (!was_here && here) {
-      enter(t);
-    } else if (!was_here && owned_on_the_way) {  // an owned tile touched at one instant
-      enter(t);
-      stretches[n - 1].t_out = t;
-    }
-  }
-
-  for (int k = 0; k < n; ++k) {
-    const Stretch& s = stretches[k];
+  for (int k = 0; k < stretches.n; ++k) {
+    const Stretch& s = stretches.list[k];
     if (s.resume == last) break;  // the walk ended before this stretch
     // The stretch's own cells only, where that is the walk's: a step along one axis alone at
     // t_in enters it (the cell before is another process's), and one at t_out leaves it (the
@@ -265,6 +237,113 @@ inline void OwnedRayWalk::walkOne(const GridGeometry& geometry, const Eigen::Vec
     const bool ends = s.t_out <= 1.0;
     detail::walkSegmentFrom(geometry, from, ray, start, ends ? s.t_out : 1.0,
                             ends ? detail::justBelow(s.t_out) : 1.0, s.t_in != -kInf, walker);
+  }
+}
+
+inline void OwnedRayWalk::Stretches::enter(double t_in) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // A resume costs about as much as walking kJoinCells cells: shorter gaps of other tiles
+  // (and a short start from the sensor) are walked through, their counts dropped later like
+  // the stretch ends'. The owned cells are visited once either way. A span of time times the
+  // walk's steps is about the cells it walks then.
+  if (cells < 0)
+    cells = double(std::abs(int64_t(ray.last.x) - first.x) +
+                   std::abs(int64_t(ray.last.y) - first.y) +
+                   std::abs(int64_t(ray.last.z) - first.z));
+  if (n > 0 && ((t_in - list[n - 1].t_out) * cells < kJoinCells || n == kMaxStretchesPerRay)) {
+    list[n - 1].t_out = kInf;  // (a ray crossing that many tiles: walked through)
+    return;
+  }
+  Stretch s{t_in, kInf, first};
+  // Resumed in the tile before it, not owned. A ray end within rounding of a boundary may
+  // leave no cell to resume at: then the walk goes on from the stretch before, or the start.
+  if (n == 0 && t_in * cells < kJoinCells) {
+    s.t_in = -kInf;
+  } else if (!detail::cellBefore(geometry, from, to, ray, first, t_in, s.resume)) {
+    if (n > 0) {
+      list[n - 1].t_out = kInf;
+      return;
+    }
+    s = {-kInf, kInf, first};
+  }
+  list[n++] = s;
+}
+
+// The same crossing times as the cell walk's (computed from the same boundary indices, held as
+// doubles: integers are exact there), the same order (at equal times up-steps first).
+template <class Owner>
+void OwnedRayWalk::findStretches(const Eigen::Vector3d& from, int32_t edge, const CellIndex& tile,
+                                 bool here, Owner owner, Stretches& out) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const detail::RaySteps& ray = out.ray;
+  const double r = out.geometry.resolution();
+  // Scalars for the loop, whose addresses never escape.
+  const double fx = from.x(), fy = from.y(), fz = from.z();
+  const double ix = ray.inv[0], iy = ray.inv[1], iz = ray.inv[2];
+  const double mx = double(ray.step[0] * edge), my = double(ray.step[1] * edge),
+               mz = double(ray.step[2] * edge);
+  double bx = double(int64_t(tile.x + ray.up[0]) * edge),
+         by = double(int64_t(tile.y + ray.up[1]) * edge),
+         bz = double(int64_t(tile.z + ray.up[2]) * edge);
+  double tx = ray.step[0] != 0 ? crossingTime(bx * r, fx, ix) : kInf;
+  double ty = ray.step[1] != 0 ? crossingTime(by * r, fy, iy) : kInf;
+  double tz = ray.step[2] != 0 ? crossingTime(bz * r, fz, iz) : kInf;
+
+  if (here) out.list[out.n++] = {-kInf, kInf, out.first};
+  for (;;) {
+    double t;
+    bool owned_on_the_way = false;
+    const bool was_here = here;
+    if (tx < ty && tx < tz) {  // one axis crosses: one tile on
+      t = tx;
+      if (!(t <= 1.0)) break;
+      bx += mx;
+      tx = crossingTime(bx * r, fx, ix);
+      owner.step(0);
+      here = owner.owns();
+    } else if (ty < tx && ty < tz) {
+      t = ty;
+      if (!(t <= 1.0)) break;
+      by += my;
+      ty = crossingTime(by * r, fy, iy);
+      owner.step(1);
+      here = owner.owns();
+    } else if (tz < tx && tz < ty) {
+      t = tz;
+      if (!(t <= 1.0)) break;
+      bz += mz;
+      tz = crossingTime(bz * r, fz, iz);
+      owner.step(2);
+      here = owner.owns();
+    } else {  // an edge or a corner: up-steps first, then down-steps
+      t = std::min(tx, std::min(ty, tz));
+      if (!(t <= 1.0)) break;
+      double b[3] = {bx, by, bz}, tn[3] = {tx, ty, tz};
+      const double moves[3] = {mx, my, mz};
+      bool moved = false;
+      for (const int direction : {1, -1}) {
+        bool moved_now = false;
+        for (int a = 0; a < 3; ++a) {
+          if (tn[a] != t || ray.step[a] != direction) continue;
+          owner.step(a);
+          b[a] += moves[a];
+          tn[a] = crossingTime(b[a] * r, from[a], ray.inv[a]);
+          moved_now = true;
+        }
+        if (moved_now && moved) owned_on_the_way = here;  // the tile between up- and down-steps
+        if (moved_now) here = owner.owns(), moved = true;
+      }
+      bx = b[0], by = b[1], bz = b[2];
+      tx = tn[0], ty = tn[1], tz = tn[2];
+    }
+    if (was_here && !here) {
+      out.leave(t);
+    } else if (!was_here && here) {
+      out.enter(t);
+    } else if (!was_here && owned_on_the_way) {  // an owned tile touched at one instant
+      out.enter(t);
+      out.leave(t);
+    }
   }
 }
 

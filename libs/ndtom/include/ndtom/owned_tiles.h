@@ -54,12 +54,28 @@ class OwnedTiles {
     static int32_t tileOf(int32_t cell, int32_t edge, int shift) {
       return shift >= 0 ? cell >> shift : floorDiv(cell, edge);
     }
+    /// The table's index of a tile, -1 if the table does not hold it.
+    int64_t indexOf(const CellIndex& tile) const {
+      const uint64_t x = uint64_t(tile.x - lo_x), y = uint64_t(tile.y - lo_y),
+                     z = uint64_t(tile.z - lo_z);
+      if (!(x < nx && y < ny && z < nz)) return -1;
+      return int64_t((z * ny + y) * nx + x);
+    }
+    /// Whether the table holds the tiles around this one too (false without a table).
+    bool holdsAround(const CellIndex& tile) const {
+      // Unsigned: below the box wraps to a large offset. A table is 3 tiles or more a side.
+      return nx >= 3 && uint64_t(tile.x - lo_x - 1) < nx - 2 && uint64_t(tile.y - lo_y - 1) < ny - 2 &&
+             uint64_t(tile.z - lo_z - 1) < nz - 2;
+    }
     bool ownsTile(const CellIndex& tile) const {
       // Unsigned, so a tile below the box wraps to a large offset: one compare per axis.
       const uint64_t x = uint64_t(tile.x - lo_x), y = uint64_t(tile.y - lo_y),
                      z = uint64_t(tile.z - lo_z);
       if (x < nx && y < ny && z < nz) return owned[(z * ny + y) * nx + x] != 0;
       return ownership->ownsTile(tile);
+    }
+    bool ownsCell(const CellIndex& cell) const {
+      return ownsTile({tileOf(cell.x), tileOf(cell.y), tileOf(cell.z)});
     }
   };
   Lookup lookup() const {

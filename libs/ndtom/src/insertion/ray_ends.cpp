@@ -8,6 +8,7 @@
 
 #include "../radix_sort.h"
 #include "ndtom/owned_tiles.h"
+#include "ndtom/tiles.h"
 
 namespace ndtom {
 
@@ -57,9 +58,10 @@ int keyByBlockRank(const ClassifiedPoints& points, const TileOwnership* hits_in,
   return key_bits;
 }
 
-// The words of the points keep(i) accepts, keyed by dense index in the ends' box of blocks
-// (from `lo`, nx × ny), in point order: each of classification's chunks keys its points from
-// its usual start; where points were left out, the chunks then move down to follow one another.
+// The words of the points keep(i, block) accepts (block: the dense index of the end's block,
+// meaningless for rejected points), keyed by dense index in the ends' box of blocks (from
+// `lo`, nx × ny), in point order: each of classification's chunks keys its points from its
+// usual start; where points were left out, the chunks then move down to follow one another.
 template <class Keep>
 void keyEndsInBox(const ScanContext& scan, const ClassifiedPoints& points, const CellIndex& lo,
                   uint64_t nx, uint64_t ny, Keep&& keep, SortedRayEnds& out) {
@@ -67,11 +69,11 @@ void keyEndsInBox(const ScanContext& scan, const ClassifiedPoints& points, const
   scan.pool.run(points.chunks(), [&](size_t t) {
     size_t k = points.used_before[t];
     for (size_t i = points.chunk_starts[t]; i < points.chunk_starts[t + 1]; ++i) {
-      if (!keep(i)) continue;
       const CellIndex& c = points.end_cells[i];
       const CellIndex b = blockOf(c);
       const uint64_t block =
           (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
+      if (!keep(i, block)) continue;
       out.words[k++] = rayEndWord(points, out, block * kBlockCells + uint64_t(offsetInBlock(c)), i);
     }
     kept[t] = k - points.used_before[t];
@@ -84,6 +86,29 @@ void keyEndsInBox(const ScanContext& scan, const ClassifiedPoints& points, const
     k += kept[t];
   }
   out.words.resize(k);
+}
+
+// Whether each block of the box from `lo` (nx × ny × nz) is in an owned tile, in the keys'
+// dense order.
+constexpr uint64_t kMaxOwnedBlocksTable = uint64_t(1) << 20;
+std::vector<uint8_t> ownedBlocks(const OwnedTiles& tiles, const TileOwnership& ownership,
+                                 const CellIndex& lo, uint64_t nx, uint64_t ny, uint64_t nz) {
+  auto tilesOf = [&](int32_t first_block, uint64_t n) {  // per block along an axis
+    std::vector<int32_t> t(n);
+    for (uint64_t i = 0; i < n; ++i) {
+      const int32_t b = first_block + int32_t(i);
+      t[i] = tileOfBlock({b, b, b}, ownership.tile_blocks).x;
+    }
+    return t;
+  };
+  const std::vector<int32_t> tx = tilesOf(lo.x, nx), ty = tilesOf(lo.y, ny), tz = tilesOf(lo.z, nz);
+  const OwnedTiles::Lookup owner = tiles.lookup();
+  std::vector<uint8_t> owned(nx * ny * nz);
+  size_t k = 0;
+  for (uint64_t z = 0; z < nz; ++z)
+    for (uint64_t y = 0; y < ny; ++y)
+      for (uint64_t x = 0; x < nx; ++x) owned[k++] = owner.ownsTile({tx[x], ty[y], tz[z]});
+  return owned;
 }
 
 }  // namespace
@@ -106,12 +131,21 @@ void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points,
     if (hits_in) {  // the hits in its tiles
       // Neighbouring points often lie in different tiles: a table, not a hash per point.
       const OwnedTiles tiles(*hits_in, points.ends_lo, points.ends_hi);
-      keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i) {
-        return points.kinds[i] == PointKind::kHit && tiles.ownsCell(points.end_cells[i]);
-      }, out);
+      if (nx * ny * nz <= kMaxOwnedBlocksTable) {  // the box's blocks' owners: one load a point
+        const std::vector<uint8_t> owned = ownedBlocks(tiles, *hits_in, lo, nx, ny, nz);
+        keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i, uint64_t block) {
+          return points.kinds[i] == PointKind::kHit && owned[block];
+        }, out);
+      } else {
+        const OwnedTiles::Lookup owner = tiles.lookup();  // in registers, not rebuilt per point
+        keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i, uint64_t) {
+          return points.kinds[i] == PointKind::kHit && owner.ownsCell(points.end_cells[i]);
+        }, out);
+      }
     } else {  // every used point
-      keyEndsInBox(scan, points, lo, nx, ny,
-                   [&](size_t i) { return points.kinds[i] != PointKind::kRejected; }, out);
+      keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i, uint64_t) {
+        return points.kinds[i] != PointKind::kRejected;
+      }, out);
     }
   } else {
     key_bits = keyByBlockRank(points, hits_in, out);
