@@ -58,22 +58,24 @@ int keyByBlockRank(const ClassifiedPoints& points, const TileOwnership* hits_in,
   return key_bits;
 }
 
-// The words of the points keep(i, block) accepts (block: the dense index of the end's block,
-// meaningless for rejected points), keyed by dense index in the ends' box of blocks (from
-// `lo`, nx × ny), in point order: each of classification's chunks keys its points from its
-// usual start; where points were left out, the chunks then move down to follow one another.
+// The words of the points keep(i) accepts and, with `owned_blocks`, that end in a
+// block it marks (by dense index), keyed by dense index in the ends' box of blocks (from `lo`,
+// nx × ny), in point order: each of classification's chunks keys its points from its usual
+// start; where points were left out, the chunks then move down to follow one another.
 template <class Keep>
 void keyEndsInBox(const ScanContext& scan, const ClassifiedPoints& points, const CellIndex& lo,
-                  uint64_t nx, uint64_t ny, Keep&& keep, SortedRayEnds& out) {
+                  uint64_t nx, uint64_t ny, Keep&& keep, const uint8_t* owned_blocks,
+                  SortedRayEnds& out) {
   std::vector<size_t> kept(points.chunks(), 0);
   scan.pool.run(points.chunks(), [&](size_t t) {
     size_t k = points.used_before[t];
     for (size_t i = points.chunk_starts[t]; i < points.chunk_starts[t + 1]; ++i) {
+      if (!keep(i)) continue;
       const CellIndex& c = points.end_cells[i];
       const CellIndex b = blockOf(c);
       const uint64_t block =
           (uint64_t(b.z - lo.z) * ny + uint64_t(b.y - lo.y)) * nx + uint64_t(b.x - lo.x);
-      if (!keep(i, block)) continue;
+      if (owned_blocks && !owned_blocks[block]) continue;
       out.words[k++] = rayEndWord(points, out, block * kBlockCells + uint64_t(offsetInBlock(c)), i);
     }
     kept[t] = k - points.used_before[t];
@@ -131,21 +133,20 @@ void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points,
     if (hits_in) {  // the hits in its tiles
       // Neighbouring points often lie in different tiles: a table, not a hash per point.
       const OwnedTiles tiles(*hits_in, points.ends_lo, points.ends_hi);
-      if (nx * ny * nz <= kMaxOwnedBlocksTable) {  // the box's blocks' owners: one load a point
+      auto isHit = [&](size_t i) { return points.kinds[i] == PointKind::kHit; };
+      if (nx * ny * nz <= kMaxOwnedBlocksTable) {  // the box's blocks' owners: one load a hit
         const std::vector<uint8_t> owned = ownedBlocks(tiles, *hits_in, lo, nx, ny, nz);
-        keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i, uint64_t block) {
-          return points.kinds[i] == PointKind::kHit && owned[block];
-        }, out);
+        keyEndsInBox(scan, points, lo, nx, ny, isHit, owned.data(), out);
       } else {
         const OwnedTiles::Lookup owner = tiles.lookup();  // in registers, not rebuilt per point
-        keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i, uint64_t) {
-          return points.kinds[i] == PointKind::kHit && owner.ownsCell(points.end_cells[i]);
-        }, out);
+        keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i) {
+          return isHit(i) && owner.ownsCell(points.end_cells[i]);
+        }, nullptr, out);
       }
     } else {  // every used point
-      keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i, uint64_t) {
-        return points.kinds[i] != PointKind::kRejected;
-      }, out);
+      keyEndsInBox(scan, points, lo, nx, ny,
+                   [&](size_t i) { return points.kinds[i] != PointKind::kRejected; }, nullptr,
+                   out);
     }
   } else {
     key_bits = keyByBlockRank(points, hits_in, out);
