@@ -128,12 +128,14 @@ inline double justBelow(double t) {
 /// crossings happen in time order). Each axis moves on its own: it has crossed exactly the
 /// boundaries whose crossing time, by the walk's own formula, is below t. False if an axis
 /// went past `ray.last` by then (a ray end within rounding of a boundary): the walk from
-/// there would not match its remaining-step count. `ray` must be RaySteps(geometry, from, to).
+/// there would not match its remaining-step count (`out` is then left as it was). `ray` must
+/// be RaySteps(geometry, from, to).
 inline bool cellBefore(const GridGeometry& geometry, const Eigen::Vector3d& from,
                        const Eigen::Vector3d& to, const RaySteps& ray, const CellIndex& first,
                        double t, CellIndex& out) {
   const double r = geometry.resolution(), inv_r = geometry.invResolution();
   const CellIndex& last = ray.last;
+  CellIndex cell;
   for (int a = 0; a < 3; ++a) {
     int32_t c = first[a];
     if (ray.step[a] != 0) {
@@ -155,8 +157,9 @@ inline bool cellBefore(const GridGeometry& geometry, const Eigen::Vector3d& from
         if (c < last[a]) return false;
       }
     }
-    out[a] = c;
+    cell[a] = c;
   }
+  out = cell;  // only a whole cell: a caller falling back keeps its own
   return true;
 }
 
