@@ -100,8 +100,9 @@ class [[gnu::visibility("hidden")]] OwnedRayWalk {
   };
   /// The walk at the scale of tiles from the origin's tile (`here`: owned), into `out`.
   template <class Owner>
-  [[gnu::always_inline]] static inline void findStretches(const Eigen::Vector3d& from, int32_t edge, const CellIndex& tile, bool here,
-                            Owner owner, Stretches& out);
+  [[gnu::always_inline]] static inline void findStretches(const Eigen::Vector3d& from,
+                                                          int32_t edge, const CellIndex& tile,
+                                                          bool here, Owner owner, Stretches& out);
 
   /// The cell after the resume cell if the walk enters the stretch by one step there, else
   /// the resume cell.

@@ -56,6 +56,7 @@ class OwnedTiles {
     }
     /// The table's index of a tile, -1 if the table does not hold it.
     int64_t indexOf(const CellIndex& tile) const {
+      // Unsigned, so a tile below the box wraps to a large offset: one compare per axis.
       const uint64_t x = uint64_t(tile.x - lo_x), y = uint64_t(tile.y - lo_y),
                      z = uint64_t(tile.z - lo_z);
       if (!(x < nx && y < ny && z < nz)) return -1;
@@ -64,15 +65,12 @@ class OwnedTiles {
     /// Whether the table holds the tiles around this one too (false without a table).
     bool holdsAround(const CellIndex& tile) const {
       // Unsigned: below the box wraps to a large offset. A table is 3 tiles or more a side.
-      return nx >= 3 && uint64_t(tile.x - lo_x - 1) < nx - 2 && uint64_t(tile.y - lo_y - 1) < ny - 2 &&
-             uint64_t(tile.z - lo_z - 1) < nz - 2;
+      return nx >= 3 && uint64_t(tile.x - lo_x - 1) < nx - 2 &&
+             uint64_t(tile.y - lo_y - 1) < ny - 2 && uint64_t(tile.z - lo_z - 1) < nz - 2;
     }
     bool ownsTile(const CellIndex& tile) const {
-      // Unsigned, so a tile below the box wraps to a large offset: one compare per axis.
-      const uint64_t x = uint64_t(tile.x - lo_x), y = uint64_t(tile.y - lo_y),
-                     z = uint64_t(tile.z - lo_z);
-      if (x < nx && y < ny && z < nz) return owned[(z * ny + y) * nx + x] != 0;
-      return ownership->ownsTile(tile);
+      const int64_t i = indexOf(tile);
+      return i >= 0 ? owned[i] != 0 : ownership->ownsTile(tile);
     }
     bool ownsCell(const CellIndex& cell) const {
       return ownsTile({tileOf(cell.x), tileOf(cell.y), tileOf(cell.z)});
@@ -83,7 +81,7 @@ class OwnedTiles {
   }
 
   bool ownsTile(const CellIndex& tile) const { return lookup().ownsTile(tile); }
-  bool ownsCell(const CellIndex& cell) const { return ownsTile(tileOf(cell)); }
+  bool ownsCell(const CellIndex& cell) const { return lookup().ownsCell(cell); }
 
  private:
   void setEdge() {

@@ -93,18 +93,17 @@ void keyEndsInBox(const ScanContext& scan, const ClassifiedPoints& points, const
 // Whether each block of the box from `lo` (nx × ny × nz) is in an owned tile, in the keys'
 // dense order.
 constexpr uint64_t kMaxOwnedBlocksTable = uint64_t(1) << 20;
-std::vector<uint8_t> ownedBlocks(const OwnedTiles& tiles, const TileOwnership& ownership,
+std::vector<uint8_t> ownedBlocks(const OwnedTiles::Lookup& owner, int tile_blocks,
                                  const CellIndex& lo, uint64_t nx, uint64_t ny, uint64_t nz) {
   auto tilesOf = [&](int32_t first_block, uint64_t n) {  // per block along an axis
     std::vector<int32_t> t(n);
     for (uint64_t i = 0; i < n; ++i) {
       const int32_t b = first_block + int32_t(i);
-      t[i] = tileOfBlock({b, b, b}, ownership.tile_blocks).x;
+      t[i] = tileOfBlock({b, b, b}, tile_blocks).x;
     }
     return t;
   };
   const std::vector<int32_t> tx = tilesOf(lo.x, nx), ty = tilesOf(lo.y, ny), tz = tilesOf(lo.z, nz);
-  const OwnedTiles::Lookup owner = tiles.lookup();
   std::vector<uint8_t> owned(nx * ny * nz);
   size_t k = 0;
   for (uint64_t z = 0; z < nz; ++z)
@@ -133,12 +132,12 @@ void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points,
     if (hits_in) {  // the hits in its tiles
       // Neighbouring points often lie in different tiles: a table, not a hash per point.
       const OwnedTiles tiles(*hits_in, points.ends_lo, points.ends_hi);
+      const OwnedTiles::Lookup owner = tiles.lookup();  // in registers, not rebuilt per point
       auto isHit = [&](size_t i) { return points.kinds[i] == PointKind::kHit; };
       if (nx * ny * nz <= kMaxOwnedBlocksTable) {  // the box's blocks' owners: one load a hit
-        const std::vector<uint8_t> owned = ownedBlocks(tiles, *hits_in, lo, nx, ny, nz);
+        const std::vector<uint8_t> owned = ownedBlocks(owner, hits_in->tile_blocks, lo, nx, ny, nz);
         keyEndsInBox(scan, points, lo, nx, ny, isHit, owned.data(), out);
       } else {
-        const OwnedTiles::Lookup owner = tiles.lookup();  // in registers, not rebuilt per point
         keyEndsInBox(scan, points, lo, nx, ny, [&](size_t i) {
           return isHit(i) && owner.ownsCell(points.end_cells[i]);
         }, nullptr, out);
