@@ -8,9 +8,11 @@
 #include <cstdio>
 #include <optional>
 
+#include "height_colors.h"
 #include "json_writer.h"
 #include "map_gather.h"
 #include "map_outputs.h"
+#include "mpi_count_exchange.h"
 #include "mpi_options.h"
 #include "ndtom_apps/motion_gate.h"
 #include "ndtom_apps/option_values.h"
@@ -19,7 +21,6 @@
 #include "ndtom_apps/run_program.h"
 #include "oblique_view.h"
 #include "output_files.h"
-#include "height_colors.h"
 #include "scan_feed.h"
 #include "settings_from_options.h"
 #include "stage_times.h"
@@ -40,6 +41,7 @@ struct RankFigures {
   double cells = 0;     ///< its part of the map
   double visits = 0;    ///< cells its ray walks visited
   double bytes_sent = 0;
+  double bytes_exchanged = 0;  ///< counts sent to other processes (--ray-share rays)
 };
 
 std::string distributedJson(const MpiOptions& o, int ranks, const std::vector<RankFigures>& r,
@@ -51,6 +53,7 @@ std::string distributedJson(const MpiOptions& o, int ranks, const std::vector<Ra
   json.field("ranks", ranks);
   json.field("scan_input", o.scan_input == ScanInput::Broadcast ? "broadcast" : "each");
   json.field("rank_tiles", o.rank_tiles);
+  json.field("ray_share", o.ray_share == RayShare::Rays ? "rays" : "tiles");
   json.field("scans", scans);
   json.field("bytes_broadcast", size_t(bytes_broadcast));
   json.field("bytes_broadcast_per_scan", scans ? double(bytes_broadcast) / double(scans) : 0.0);
@@ -64,6 +67,7 @@ std::string distributedJson(const MpiOptions& o, int ranks, const std::vector<Ra
     json.field("cells", size_t(f.cells));
     json.field("visits", size_t(f.visits));
     json.field("bytes_sent", size_t(f.bytes_sent));
+    json.field("bytes_exchanged", size_t(f.bytes_exchanged));
     json.endObject();
   }
   json.endArray();
@@ -85,8 +89,7 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   if (rank == 0) out.emplace(o.prefix);
   const bool talk = rank == 0 && !o.quiet;
   if (talk)
-    std::fprintf(stderr, "ndtom-map-mpi: %d processes; %s\n", ranks,
-                 source->description().c_str());
+    std::fprintf(stderr, "ndtom-map-mpi: %d processes; %s\n", ranks, source->description().c_str());
   const size_t total = source ? source->size() : 0;
   ScanFeed feed(mo.scan_input, std::move(source), comm);
 
@@ -96,6 +99,7 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   insert.threads = insertion.insertion.threads;
   const ndtom::TileOwnership owned{mo.rank_tiles, rank, ranks};
   ndtom::NdtMap part(map_options);
+  MpiCountExchange exchange(comm);
   ndtom::apps::MotionGate gate(o.motion);
   ndtom::apps::Progress progress(talk);
   progress.start("", total);
@@ -112,7 +116,10 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
     if (gate.accept(sensor_pose)) {
       const auto t = Clock::now();
       try {
-        points += part.insertScanPart(scan->points_world, scan->sensor_origin, insert, owned);
+        points += mo.ray_share == RayShare::Rays
+                      ? part.insertScanPart(scan->points_world, scan->sensor_origin, insert, owned,
+                                            exchange)
+                      : part.insertScanPart(scan->points_world, scan->sensor_origin, insert, owned);
       } catch (const std::invalid_argument& e) {
         throw InputError(scan->name + ": " + e.what());
       }
@@ -125,6 +132,7 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   mine.loop_s = secondsSince(loop_start);
   mine.cells = double(part.numCells());
   mine.visits = double(points.voxel_visits);
+  mine.bytes_exchanged = double(exchange.bytesSent());
 
   const auto gather_start = Clock::now();
   uint64_t sent = 0;
@@ -132,8 +140,8 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   const double gather_s = secondsSince(gather_start);
   mine.bytes_sent = double(sent);
   std::vector<RankFigures> all(static_cast<size_t>(ranks));
-  static_assert(sizeof(RankFigures) == 5 * sizeof(double));
-  MPI_Gather(&mine, 5, MPI_DOUBLE, all.data(), 5, MPI_DOUBLE, 0, comm);
+  static_assert(sizeof(RankFigures) == 6 * sizeof(double));
+  MPI_Gather(&mine, 6, MPI_DOUBLE, all.data(), 6, MPI_DOUBLE, 0, comm);
   if (rank != 0) return 0;
 
   if (points.pointsUsed() == 0)
@@ -155,9 +163,10 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   if (!o.quiet) {
     double slowest = 0;
     for (const RankFigures& f : all) slowest = std::max(slowest, f.loop_s);
-    std::printf("ndtom-map-mpi: %zu scans on %d processes: scan loop %.2f s (slowest process), "
-                "gather %.2f s, total %.2f s; %zu cells\n",
-                done, ranks, slowest, gather_s, total_s, mrpt_map.ndtMap().numCells());
+    std::printf(
+        "ndtom-map-mpi: %zu scans on %d processes: scan loop %.2f s (slowest process), "
+        "gather %.2f s, total %.2f s; %zu cells\n",
+        done, ranks, slowest, gather_s, total_s, mrpt_map.ndtMap().numCells());
     for (const WrittenFile& f : out->files()) std::printf("  %s\n", f.path.c_str());
   }
   return 0;

@@ -25,6 +25,15 @@ MpiOptions parseMpiOptions(int argc, char** argv) {
       } else {
         throw apps::UsageError("--scan-input '" + v + "': use each or broadcast");
       }
+    } else if (arg == "--ray-share") {
+      const std::string v = value();
+      if (v == "tiles") {
+        o.ray_share = RayShare::Tiles;
+      } else if (v == "rays") {
+        o.ray_share = RayShare::Rays;
+      } else {
+        throw apps::UsageError("--ray-share '" + v + "': use tiles or rays");
+      }
     } else if (arg == "--rank-tiles") {
       o.rank_tiles = int(apps::parseInteger("--rank-tiles", value(), 1, ndtom::kMaxTileBlocks));
     } else {
@@ -49,7 +58,12 @@ std::string mpiHelpText() {
          "\n"
          "  --scan-input each|broadcast  each process reads the input itself (a shared file\n"
          "                            system; the default), or process 0 reads and broadcasts\n"
-         "  --rank-tiles B            tiles of B blocks (8 cells) a side are dealt out (Default: 4)\n"
+         "  --rank-tiles B            tiles of B blocks (8 cells) a side are dealt out (Default: "
+         "4)\n"
+         "  --ray-share tiles|rays    each process walks every ray's stretches through its\n"
+         "                            tiles (the default), or a share of the rays whole and\n"
+         "                            sends the counts in other tiles to their owners (the\n"
+         "                            same map; less work per process, a message per scan)\n"
          "\n"
          "Every ndtom-map option applies except --passes (one pass) and --resident-budget.\n"
          "ndtom-map's help:\n\n" +

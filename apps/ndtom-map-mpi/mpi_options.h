@@ -9,9 +9,15 @@
 
 namespace ndtom::mapper {
 
+/// How the processes share a scan's free-space rays: each walks every ray's stretches
+/// through its own tiles (owned_ray_walk.h), or a share of the rays whole, trading counts
+/// (count_exchange.h).
+enum class RayShare { Tiles, Rays };
+
 struct MpiOptions {
   MapperOptions map;  ///< every ndtom-map option
   ScanInput scan_input = ScanInput::EachReads;
+  RayShare ray_share = RayShare::Tiles;
   int rank_tiles = 4;  ///< edge, in blocks, of the tiles dealt out to the processes
 };
 

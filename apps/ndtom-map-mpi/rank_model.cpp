@@ -1,16 +1,21 @@
 // ndtom-rank-model: the work of each process of ndtom-map-mpi for N processes, measured in one
-// process (each rank's share inserted in turn, CPU time): per-rank balance and the compute
-// efficiency T1 / (N * slowest rank) for more processes than this machine has. Communication
-// is not part of it (ndtom-map-mpi's .mpi.json has its bytes). Writes PREFIX.rank-model.csv.
+// process (CPU time): per-rank balance and the compute efficiency T1 / (N * slowest rank) for
+// more processes than this machine has. With --ray-share tiles each rank's share is inserted in
+// turn; with --ray-share rays the ranks run as threads trading counts through memory (each
+// thread's own CPU time), and the bytes each sends are counted. Network time is not part of
+// it. Writes PREFIX.rank-model.csv.
 #include <time.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <numeric>
+#include <thread>
 #include <vector>
 
 #include "mpi_options.h"
+#include "ndtom/thread_count_exchange.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"
@@ -20,16 +25,66 @@ using namespace ndtom::mapper;
 
 namespace {
 
-double cpuSeconds() {
+double cpuSeconds(clockid_t clock = CLOCK_PROCESS_CPUTIME_ID) {
   timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  clock_gettime(clock, &t);
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
 struct Share {
   double cpu_s = 0;
   size_t cells = 0, visits = 0;
+  size_t bytes_sent = 0;  ///< counts for other ranks (--ray-share rays)
 };
+
+// A rank's port to the others, counting what it sends.
+class CountedPort : public ndtom::CountExchange {
+ public:
+  explicit CountedPort(ndtom::CountExchange& port) : port_(port) {}
+  bool exchange(bool failed, const std::vector<std::vector<uint32_t>>& outgoing,
+                std::vector<std::vector<uint32_t>>& incoming) override {
+    for (const auto& words : outgoing) bytes_ += words.size() * sizeof(uint32_t);
+    return port_.exchange(failed, outgoing, incoming);
+  }
+  size_t bytes() const { return bytes_; }
+
+ private:
+  ndtom::CountExchange& port_;
+  size_t bytes_ = 0;
+};
+
+// Every rank's part of the map from every scan, the ranks sharing the rays out: one thread
+// each, as they must trade counts scan by scan.
+std::vector<Share> insertSharedRays(const std::vector<Scan>& scans,
+                                    const ndtom::MapOptions& options,
+                                    const ndtom::InsertOptions& insert, int rank_tiles, int ranks) {
+  ndtom::ThreadCountExchange hub(ranks);
+  std::vector<Share> shares(static_cast<size_t>(ranks));
+  std::vector<std::exception_ptr> errors(static_cast<size_t>(ranks));
+  std::vector<std::thread> threads;
+  for (int r = 0; r < ranks; ++r)
+    threads.emplace_back([&, r] {
+      try {
+        const ndtom::TileOwnership owned{rank_tiles, r, ranks};
+        CountedPort port(hub.port(r));
+        ndtom::NdtMap map(options);
+        Share& s = shares[size_t(r)];
+        const double start = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
+        for (const Scan& scan : scans)
+          s.visits += map.insertScanPart(scan.points_world, scan.sensor_origin, insert, owned, port)
+                          .voxel_visits;
+        s.cpu_s = cpuSeconds(CLOCK_THREAD_CPUTIME_ID) - start;
+        s.cells = map.numCells();
+        s.bytes_sent = port.bytes();
+      } catch (...) {
+        errors[size_t(r)] = std::current_exception();
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+  return shares;
+}
 
 // One rank's part of the map from every scan (ranks == 1 with the serial insertScan).
 Share insertShare(const std::vector<Scan>& scans, const ndtom::MapOptions& options,
@@ -60,7 +115,8 @@ int run(int argc, char** argv) {
   }
   const MpiOptions o = parseMpiOptions(int(rest.size()), rest.data());
   if (o.map.help) {
-    std::puts("Usage: ndtom-rank-model INPUT -o PREFIX [--ranks 1,2,4,...] [ndtom-map-mpi options]");
+    std::puts(
+        "Usage: ndtom-rank-model INPUT -o PREFIX [--ranks 1,2,4,...] [ndtom-map-mpi options]");
     return 0;
   }
   const InsertionOptions insertion = resolveInsertionOptions(o.map.insertion);
@@ -73,25 +129,37 @@ int run(int argc, char** argv) {
 
   const Share serial = insertShare(scans, options, insert, {o.rank_tiles, 0, 1});
   std::ofstream csv(o.map.prefix + ".rank-model.csv");
-  csv << "ranks,rank,cpu_s,cells,visits\n";
-  std::printf("%6s %10s %10s %10s %8s %10s\n", "ranks", "serial_s", "slowest_s", "mean_s",
-              "balance", "efficiency");
+  csv << "ranks,rank,cpu_s,cells,visits,bytes_sent\n";
+  const bool share_rays = o.ray_share == RayShare::Rays;
+  std::printf("%6s %10s %10s %10s %8s %10s%s\n", "ranks", "serial_s", "slowest_s", "mean_s",
+              "balance", "efficiency", share_rays ? "  MB_sent/scan/rank" : "");
   ndtom::apps::Progress progress(!o.map.quiet);
   for (const int64_t n : ranks_list) {
     std::vector<Share> shares;
     progress.start(std::to_string(n) + " ranks", size_t(n), "ranks");
-    for (int r = 0; r < n; ++r) {
-      shares.push_back(n == 1 ? serial : insertShare(scans, options, insert, {o.rank_tiles, r, int(n)}));
-      csv << n << ',' << r << ',' << shares.back().cpu_s << ',' << shares.back().cells << ','
-          << shares.back().visits << '\n';
-      progress.update(size_t(r + 1));
+    if (n == 1) {
+      shares.push_back(serial);
+    } else if (share_rays) {
+      shares = insertSharedRays(scans, options, insert, o.rank_tiles, int(n));
+    } else {
+      for (int r = 0; r < n; ++r) {
+        shares.push_back(insertShare(scans, options, insert, {o.rank_tiles, r, int(n)}));
+        progress.update(size_t(r + 1));
+      }
     }
     progress.finish();
-    double slowest = 0, sum = 0;
-    for (const Share& s : shares) slowest = std::max(slowest, s.cpu_s), sum += s.cpu_s;
+    double slowest = 0, sum = 0, bytes = 0;
+    for (const Share& s : shares) {
+      csv << n << ',' << (&s - shares.data()) << ',' << s.cpu_s << ',' << s.cells << ',' << s.visits
+          << ',' << s.bytes_sent << '\n';
+      slowest = std::max(slowest, s.cpu_s), sum += s.cpu_s, bytes += double(s.bytes_sent);
+    }
     const double mean = sum / double(n);
-    std::printf("%6lld %10.3f %10.3f %10.3f %8.3f %10.3f\n", (long long)n, serial.cpu_s, slowest,
+    std::printf("%6lld %10.3f %10.3f %10.3f %8.3f %10.3f", (long long)n, serial.cpu_s, slowest,
                 mean, mean / slowest, serial.cpu_s / (double(n) * slowest));
+    if (share_rays)
+      std::printf("  %18.3f", scans.empty() ? 0.0 : bytes / double(n) / double(scans.size()) / 1e6);
+    std::printf("\n");
   }
   return 0;
 }

@@ -1,7 +1,7 @@
 // ndtom-map-mpi on the shipped lidar scans: its map files are ndtom-map's byte for byte for
 // 1, 2 and 4 processes (more processes than cores: --oversubscribe), for either way of sharing
-// the scans and either ray mode; the processes' parts are disjoint and cover the map; a bad
-// command line is refused once, by every process, without hanging.
+// the scans, either way of sharing the rays and either ray mode; the processes' parts are disjoint
+// and cover the map; a bad command line is refused once, by every process, without hanging.
 #include <cstdlib>
 
 #include "mapper/mapper_run.h"
@@ -42,38 +42,51 @@ TEST(MapMpi, MapFilesAreNdtomMapsForOneTwoAndFourProcesses) {
     ASSERT_EQ(serial.exit_code, 0) << serial.err;
     for (const int processes : {1, 2, 4}) {
       for (const std::string input : {"each", "broadcast"}) {
-        if (processes == 1 && input == "broadcast") continue;
-        SCOPED_TRACE(std::to_string(processes) + " processes, scan input " + input);
-        const std::string prefix = "np" + std::to_string(processes) + input;
-        const ProgramRun run = runMpi(processes,
-                                      quoted(kLidar) + " -o " + quoted((dir / prefix).string()) +
-                                          options + " --scan-input " + input + " --rank-tiles 1",
-                                      dir);
-        ASSERT_EQ(run.exit_code, 0) << run.err;
-        for (const std::string suffix : {".ndtom", ".ndtommap", ".ndtomtiles"})
-          EXPECT_TRUE(sameBytes(readText(dir / ("serial" + suffix)),
-                                readText(dir / (prefix + suffix))))
-              << suffix;
+        for (const std::string share : {"tiles", "rays"}) {
+          if (processes == 1 && input == "broadcast") continue;
+          SCOPED_TRACE(std::to_string(processes) + " processes, scan input " + input +
+                       ", rays shared by " + share);
+          const std::string prefix = "np" + std::to_string(processes) + input + share;
+          const ProgramRun run =
+              runMpi(processes,
+                     quoted(kLidar) + " -o " + quoted((dir / prefix).string()) + options +
+                         " --scan-input " + input + " --rank-tiles 1 --ray-share " + share,
+                     dir);
+          ASSERT_EQ(run.exit_code, 0) << run.err;
+          for (const std::string suffix : {".ndtom", ".ndtommap", ".ndtomtiles"})
+            EXPECT_TRUE(
+                sameBytes(readText(dir / ("serial" + suffix)), readText(dir / (prefix + suffix))))
+                << suffix;
 
-        // The parts are disjoint and together the map: their cells add up to the map's.
-        const std::string json = readText(dir / (prefix + ".mpi.json"));
-        EXPECT_EQ(jsonNumber(json, "ranks"), processes);
-        double cells = 0;
-        size_t at = 0, parts = 0;
-        while ((at = json.find("\"cells\":", at)) != std::string::npos)
-          cells += std::strtod(json.c_str() + (at += 8), nullptr), ++parts;
-        EXPECT_EQ(parts, size_t(processes));
-        const double map_cells =
-            jsonNumber(readText(dir / "serial.summary.json"), "cells", "map");
-        EXPECT_EQ(cells, map_cells);
-        // Broadcast sends each scan's points once (24 bytes a point) and little else.
-        const double sent = jsonNumber(json, "bytes_broadcast");
-        if (input == "broadcast") {
-          const double points = jsonNumber(readText(dir / "serial.summary.json"), "in", "points");
-          EXPECT_GE(sent, 24 * points);
-          EXPECT_LT(sent, 24 * points + 1000 * 10);
-        } else {
-          EXPECT_EQ(sent, 0);
+          // The parts are disjoint and together the map: their cells add up to the map's.
+          const std::string json = readText(dir / (prefix + ".mpi.json"));
+          EXPECT_EQ(jsonNumber(json, "ranks"), processes);
+          double cells = 0;
+          size_t at = 0, parts = 0;
+          while ((at = json.find("\"cells\":", at)) != std::string::npos)
+            cells += std::strtod(json.c_str() + (at += 8), nullptr), ++parts;
+          EXPECT_EQ(parts, size_t(processes));
+          const double map_cells =
+              jsonNumber(readText(dir / "serial.summary.json"), "cells", "map");
+          EXPECT_EQ(cells, map_cells);
+          // Broadcast sends each scan's points once (24 bytes a point) and little else.
+          const double sent = jsonNumber(json, "bytes_broadcast");
+          if (input == "broadcast") {
+            const double points = jsonNumber(readText(dir / "serial.summary.json"), "in", "points");
+            EXPECT_GE(sent, 24 * points);
+            EXPECT_LT(sent, 24 * points + 1000 * 10);
+          } else {
+            EXPECT_EQ(sent, 0);
+          }
+          // Sharing the rays, processes send each other counts; sharing the tiles, none.
+          double exchanged = 0;
+          for (at = 0; (at = json.find("\"bytes_exchanged\":", at)) != std::string::npos;)
+            exchanged += std::strtod(json.c_str() + (at += 18), nullptr);
+          if (share == "rays" && processes > 1) {
+            EXPECT_GT(exchanged, 0);
+          } else {
+            EXPECT_EQ(exchanged, 0);
+          }
         }
       }
     }
@@ -83,8 +96,8 @@ TEST(MapMpi, MapFilesAreNdtomMapsForOneTwoAndFourProcesses) {
 TEST(MapMpi, BadCommandLinesAreRefusedByEveryProcessWithoutHanging) {
   TempDir dir;
   const std::string out = " -o " + quoted((dir / "m").string());
-  for (const std::string bad : {" --rank-tiles 0", " --scan-input smoke", " --passes 2",
-                                " --resolution -1", " --resident-budget 10"}) {
+  for (const std::string bad : {" --rank-tiles 0", " --scan-input smoke", " --ray-share all",
+                                " --passes 2", " --resolution -1", " --resident-budget 10"}) {
     SCOPED_TRACE(bad);
     const ProgramRun run = runMpi(2, quoted(kLidar) + out + bad, dir);
     EXPECT_NE(run.exit_code, 0);

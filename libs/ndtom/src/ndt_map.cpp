@@ -99,6 +99,17 @@ InsertionReport NdtMap::insertScanPart(const std::vector<Eigen::Vector3d>& point
   return updater.run(points, sensor_origin);
 }
 
+InsertionReport NdtMap::insertScanPart(const std::vector<Eigen::Vector3d>& points,
+                                       const Eigen::Vector3d& sensor_origin,
+                                       const InsertOptions& options, const TileOwnership& owned,
+                                       CountExchange& exchange) {
+  owned.validate();
+  touch();
+  if (!scratch_) scratch_ = std::make_unique<ScanScratch>();
+  ScanUpdater updater(*this, options, *scratch_, &owned, &exchange);
+  return updater.run(points, sensor_origin);
+}
+
 size_t NdtMap::numGaussians() const {
   size_t n = 0;
   for (const auto& [block_index, block] : grid_.blocks())

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 #include <stdexcept>
 #include <string>
 
@@ -11,6 +12,15 @@ namespace ndtom {
 
 InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
                                  const Eigen::Vector3d& origin) {
+  // Any failure before this scan's count exchange, from here on, is told to the others.
+  s_.free_counts.exchanged = false;
+  struct FailureNotice {
+    ScanUpdater& updater;
+    const int exceptions = std::uncaught_exceptions();
+    ~FailureNotice() {
+      if (std::uncaught_exceptions() > exceptions) updater.tellOthersOfFailure();
+    }
+  } notice{*this};
   validate(options_);
   if (!map_.geometry().inRange(origin))
     throw std::invalid_argument("insertScan: sensor origin is not finite or outside the grid");
@@ -20,7 +30,8 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
   report.points_in = points.size();
   s_.free_counts.reset();
   checkBudgetForPoints(points.size());
-  const ScanContext scan{map_.geometry(), options_, origin, s_.pool, owned_};
+  const ScanContext scan{map_.geometry(), options_, origin,
+                         s_.pool,         owned_,   owned_ ? exchange_ : nullptr};
   const bool occupancy = map_.options().occupancy.enabled;
   const bool ray_per_group = occupancy && options_.ray_mode == RayMode::PerHitCell;
 
@@ -35,8 +46,8 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
     if (owned_) dropHitsOutside(*owned_);
     checkBudgetForEnds(report);
     if (occupancy) traceFreeRaysInBudget(scan, report);
-    const MapChange change = applyToMap(scan, map_.options(), s_.groups, s_.free_counts,
-                                        map_.grid_, s_.apply, report);
+    const MapChange change =
+        applyToMap(scan, map_.options(), s_.groups, s_.free_counts, map_.grid_, s_.apply, report);
     map_.num_cells_ += change.cells_created;
     map_.stats_bytes_ += change.stats_bytes;
   } catch (const MemoryBudgetError&) {
@@ -47,6 +58,19 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
     throw;
   }
   return report;
+}
+
+void ScanUpdater::tellOthersOfFailure() noexcept {
+  // The others wait in this scan's exchange. A process whose exchange itself threw does not
+  // call it again.
+  if (!owned_ || !exchange_ || !map_.options().occupancy.enabled || s_.free_counts.exchanged)
+    return;  // (without occupancy no process traces rays, so none exchanges)
+  s_.free_counts.exchanged = true;
+  try {
+    std::vector<std::vector<uint32_t>> none, ignored;
+    exchange_->exchange(true, none, ignored);
+  } catch (...) {  // the scan's own error is the one to report
+  }
 }
 
 void ScanUpdater::dropHitsOutside(const TileOwnership& owned) {

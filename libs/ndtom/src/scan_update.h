@@ -42,13 +42,17 @@ class ScanUpdater {
       ScanCounts::kBytesPerBlock + BlockGrid<MapBlock>::kBytesPerBlock;
 
   /// `owned`: only these tiles' cells change (a distributed build's process); nullptr: all.
+  /// `exchange`: with `owned`, the rays are shared out and their counts traded through it.
   ScanUpdater(NdtMap& map, const InsertOptions& options, ScanScratch& scratch,
-              const TileOwnership* owned = nullptr)
-      : map_(map), options_(options), s_(scratch), owned_(owned) {}
+              const TileOwnership* owned = nullptr, CountExchange* exchange = nullptr)
+      : map_(map), options_(options), s_(scratch), owned_(owned), exchange_(exchange) {}
 
   InsertionReport run(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& origin);
 
  private:
+  /// After a failure before this scan's count exchange: tells the other processes (which
+  /// then fail the scan too), so that none waits for this one.
+  void tellOthersOfFailure() noexcept;
   /// A distributed build's process: forgets the hits in other processes' tiles.
   void dropHitsOutside(const TileOwnership& owned);
   /// Memory budget, before classification: the map and the scan's per-point buffers.
@@ -63,6 +67,7 @@ class ScanUpdater {
   const InsertOptions& options_;
   ScanScratch& s_;
   const TileOwnership* owned_;
+  CountExchange* exchange_;
   uint64_t budget_used_ = 0;             ///< map + this scan's buffers, as estimated so far (bytes)
   std::atomic<int64_t> blocks_left_{0};  ///< new blocks tracing may add (memory budget)
 };

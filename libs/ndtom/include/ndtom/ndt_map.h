@@ -25,6 +25,7 @@
 
 namespace ndtom {
 
+class CountExchange;  // count_exchange.h
 struct MapBlock;     // src/map_block.h
 struct ScanScratch;  // src/scan_update.h
 struct SpillCodec;   // src/spill_codec.h
@@ -75,6 +76,15 @@ class NdtMap {
   InsertionReport insertScanPart(const std::vector<Eigen::Vector3d>& points,
                                  const Eigen::Vector3d& sensor_origin,
                                  const InsertOptions& options, const TileOwnership& owned);
+  /// insertScanPart with the rays shared out instead of their stretches (count_exchange.h):
+  /// this process walks its share of the scan's rays through every tile and trades counts
+  /// with the other processes through `exchange`, which every process must call for every
+  /// scan. The same cells change, to the same values. Throws std::runtime_error, leaving the
+  /// map as it was, if another process failed on this scan.
+  InsertionReport insertScanPart(const std::vector<Eigen::Vector3d>& points,
+                                 const Eigen::Vector3d& sensor_origin,
+                                 const InsertOptions& options, const TileOwnership& owned,
+                                 CountExchange& exchange);
 
   // --- Queries: const, never allocate, never change the map -------------------------------
 

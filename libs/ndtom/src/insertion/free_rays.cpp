@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <stdexcept>
 
 #include "ndtom/owned_ray_walk.h"
 #include "ndtom/owned_tiles.h"
@@ -26,11 +27,72 @@ template <class Walker, class RayEnd>
   return walkRays(scan.geometry, scan.origin, begin, end, rayEnd, count);
 }
 
+// A message of counts: per block, its coordinates, the number n of its cells counted, then n
+// pairs (offset in the block, count). Blocks with no count go too: the walk that entered
+// them made them part of the scan, as in the serial walk.
+constexpr size_t kBlockHeaderWords = 4;
+
+void appendBlock(const CellIndex& b, const CountBlock& counts, std::vector<uint32_t>& words) {
+  const size_t header = words.size();
+  words.insert(words.end(), {uint32_t(b.x), uint32_t(b.y), uint32_t(b.z), 0});
+  uint32_t n = 0;
+  for (uint32_t i = 0; i < uint32_t(kBlockCells); ++i) {
+    if (counts.count[i] == 0) continue;
+    words.push_back(i);
+    words.push_back(counts.count[i]);
+    ++n;
+  }
+  words[header + 3] = n;
+}
+
+void addMessage(const std::vector<uint32_t>& words, const TileOwnership& owned, ScanCounts& into) {
+  auto malformed = [] {
+    return std::runtime_error("insertScanPart: a malformed message of counts from another process");
+  };
+  for (size_t at = 0; at < words.size();) {
+    if (words.size() - at < kBlockHeaderWords) throw malformed();
+    const CellIndex b{int32_t(words[at]), int32_t(words[at + 1]), int32_t(words[at + 2])};
+    const size_t n = words[at + 3];
+    at += kBlockHeaderWords;
+    if (!owned.ownsBlock(b) || n > size_t(kBlockCells) || (words.size() - at) / 2 < n)
+      throw malformed();
+    CountBlock& block = into.blockAt(b);
+    for (size_t k = 0; k < n; ++k, at += 2) {
+      if (words[at] >= uint32_t(kBlockCells)) throw malformed();
+      block.count[words[at]] += words[at + 1];
+    }
+  }
+}
+
+// Sends the counts in other processes' tiles to their owners and adds theirs in this one's
+// tiles as one more table (the apply stage sums the tables).
+void tradeCounts(const TileOwnership& owned, CountExchange& exchange, size_t threads,
+                 FreeCounts& out) {
+  out.outgoing.resize(size_t(owned.ranks));
+  for (std::vector<uint32_t>& words : out.outgoing) words.clear();
+  for (size_t t = 0; t < threads; ++t) {
+    ScanCounts& table = out.tables[t];
+    for (size_t i = 0; i < table.numBlocks(); ++i) {
+      const CellIndex& b = table.blockIndex(i);
+      const int owner = owned.ownerOfTile(tileOfBlock(b, owned.tile_blocks));
+      if (owner != owned.rank) appendBlock(b, table.block(i), out.outgoing[size_t(owner)]);
+    }
+  }
+  out.exchanged = true;
+  if (!exchange.exchange(false, out.outgoing, out.incoming))
+    throw std::runtime_error(
+        "insertScanPart: another process of the distributed build failed on this scan");
+  if (out.tables.size() < threads + 1) out.tables.resize(threads + 1);
+  ScanCounts& received = out.tables[threads];
+  received.setBlockLimit(nullptr);
+  for (const std::vector<uint32_t>& words : out.incoming) addMessage(words, owned, received);
+  out.used = threads + 1;
+}
+
 }  // namespace
 
-void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
-                   const EndGroups& groups, std::atomic<int64_t>& blocks_left, FreeCounts& out,
-                   InsertionReport& report) {
+void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points, const EndGroups& groups,
+                   std::atomic<int64_t>& blocks_left, FreeCounts& out, InsertionReport& report) {
   constexpr size_t kPieces = ClassifiedPoints::kRayPieces;
   const bool per_point = scan.options.ray_mode == RayMode::PerPoint;
   const size_t rays = per_point ? points.used : groups.groups.size();
@@ -56,9 +118,13 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
     if (!per_point) return &groups.groups[i].mean_end;
     return points.kinds[i] == PointKind::kRejected ? nullptr : &points.ends[i];
   };
+  // A process sharing the rays out walks a range of them, of its share of their length.
+  const bool share_rays = scan.owned && scan.exchange;
+  const size_t ranks = share_rays ? size_t(scan.owned->ranks) : 1;
+  const size_t rank = share_rays ? size_t(scan.owned->rank) : 0;
   std::vector<size_t> bounds(threads + 1, items);
   bounds[0] = 0;
-  if (threads > 1) {
+  if (threads > 1 || ranks > 1) {
     std::vector<double> cost(kPieces + 1, 0.0);  // [piece + 1]: lengths up to its end
     if (per_point) {
       std::copy(points.piece_lengths.begin(), points.piece_lengths.end(), cost.begin() + 1);
@@ -74,15 +140,21 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
       });
     }
     for (size_t piece = 0; piece < kPieces; ++piece) cost[piece + 1] += cost[piece];
-    for (size_t t = 1, piece = 0; t < threads; ++t) {
-      while (piece < kPieces && cost[piece] < cost[kPieces] * double(t) / double(threads))
-        ++piece;
-      bounds[t] = partRange(items, kPieces, piece).first;
-    }
+    auto itemAt = [&](double fraction) {  // where that fraction of the total length is reached
+      size_t piece = 0;
+      while (piece < kPieces && cost[piece] < cost[kPieces] * fraction) ++piece;
+      return partRange(items, kPieces, piece).first;
+    };
+    const double share = 1.0 / double(ranks);
+    bounds[0] = rank == 0 ? 0 : itemAt(double(rank) * share);
+    bounds[threads] = rank + 1 == ranks ? items : itemAt(double(rank + 1) * share);
+    for (size_t t = 1; t < threads; ++t)
+      bounds[t] = std::clamp(itemAt((double(rank) + double(t) / double(threads)) * share),
+                             bounds[0], bounds[threads]);
   }
   // The owners of the tiles the rays cross: the box of their ends and the sensor.
   std::optional<OwnedTiles> tiles;
-  if (scan.owned) {
+  if (scan.owned && !share_rays) {
     const CellIndex o = geometry.cellOf(origin);
     tiles.emplace(*scan.owned, cellwiseMin(points.ends_lo, o), cellwiseMax(points.ends_hi, o));
   }
@@ -108,8 +180,8 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
     // distributed build's process walks only its tiles' stretches of the rays.
     auto walkTakes = [&](auto count, auto&& endOf) {
       forEachTake([&](size_t begin, size_t end) {
-        count = scan.owned ? walkOwnedRays(scan, *tiles, begin, end, endOf, count)
-                           : walkSerialRays(scan, begin, end, endOf, count);
+        count = tiles ? walkOwnedRays(scan, *tiles, begin, end, endOf, count)
+                      : walkSerialRays(scan, begin, end, endOf, count);
       });
       visits[t] = count.visits();
     };
@@ -122,7 +194,9 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
         return &groups.groups[i].mean_end;
       });
   });
-  // The stretches' walks also count a cell or two of other processes' tiles at their ends.
+  // The stretches' walks also count a cell or two of other processes' tiles at their ends;
+  // whole rays count in every tile, and those counts go to the tiles' owners.
+  if (share_rays) tradeCounts(*scan.owned, *scan.exchange, threads, out);
   if (scan.owned)
     for (size_t t = 0; t < threads; ++t)
       out.tables[t].keepBlocksWhere([&](const CellIndex& b) { return scan.owned->ownsBlock(b); });

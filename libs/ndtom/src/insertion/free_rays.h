@@ -19,6 +19,8 @@ namespace ndtom {
 struct FreeCounts {
   std::vector<ScanCounts> tables;  ///< kept from scan to scan (their blocks are reused)
   size_t used = 1;                 ///< tables filled by this scan (>= 1)
+  bool exchanged = false;          ///< this scan's counts were traded (count_exchange.h)
+  std::vector<std::vector<uint32_t>> outgoing, incoming;  ///< their messages, per process
 
   void reset() {
     if (tables.empty()) tables.resize(1);  // tables[0] takes the union even without tracing
@@ -29,7 +31,10 @@ struct FreeCounts {
 /// Walks a ray per used point of `points` (RayMode::PerPoint) or per group of `groups` (to
 /// its mean end, weighted by its count), from the sensor, counting into `out`; the rays cast
 /// and cells visited go to `report`. The tables together add at most `blocks_left` blocks,
-/// else BlockLimitReached is thrown.
+/// else BlockLimitReached is thrown. A distributed build's process (scan.owned) ends with the
+/// counts of its own tiles only: with scan.exchange it walks a share of the rays whole and
+/// trades counts (throwing std::runtime_error if another process failed), else it walks the
+/// stretches of every ray through its tiles.
 void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
                    const EndGroups& groups, std::atomic<int64_t>& blocks_left, FreeCounts& out,
                    InsertionReport& report);
