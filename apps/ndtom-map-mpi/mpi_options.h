@@ -17,7 +17,7 @@ enum class RayShare { Tiles, Rays };
 struct MpiOptions {
   MapperOptions map;  ///< every ndtom-map option
   ScanInput scan_input = ScanInput::EachReads;
-  RayShare ray_share = RayShare::Tiles;
+  RayShare ray_share = RayShare::Rays;  ///< less work per process (doc/scale.md)
   int rank_tiles = 4;  ///< edge, in blocks, of the tiles dealt out to the processes
 };
 
