@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <optional>
 
-#include "height_colors.h"
 #include "json_writer.h"
 #include "map_gather.h"
 #include "map_outputs.h"
@@ -22,6 +21,7 @@
 #include "ndtom_apps/run_program.h"
 #include "oblique_view.h"
 #include "output_files.h"
+#include "height_colors.h"
 #include "scan_feed.h"
 #include "settings_from_options.h"
 #include "stage_times.h"
@@ -90,7 +90,8 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   if (rank == 0) out.emplace(o.prefix);
   const bool talk = rank == 0 && !o.quiet;
   if (talk)
-    std::fprintf(stderr, "ndtom-map-mpi: %d processes; %s\n", ranks, source->description().c_str());
+    std::fprintf(stderr, "ndtom-map-mpi: %d processes; %s\n", ranks,
+                 source->description().c_str());
   const size_t total = source ? source->size() : 0;
   ScanFeed feed(mo.scan_input, std::move(source), comm);
 
@@ -164,10 +165,9 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   if (!o.quiet) {
     double slowest = 0;
     for (const RankFigures& f : all) slowest = std::max(slowest, f.loop_s);
-    std::printf(
-        "ndtom-map-mpi: %zu scans on %d processes: scan loop %.2f s (slowest process), "
-        "gather %.2f s, total %.2f s; %zu cells\n",
-        done, ranks, slowest, gather_s, total_s, mrpt_map.ndtMap().numCells());
+    std::printf("ndtom-map-mpi: %zu scans on %d processes: scan loop %.2f s (slowest process), "
+                "gather %.2f s, total %.2f s; %zu cells\n",
+                done, ranks, slowest, gather_s, total_s, mrpt_map.ndtMap().numCells());
     for (const WrittenFile& f : out->files()) std::printf("  %s\n", f.path.c_str());
   }
   return 0;

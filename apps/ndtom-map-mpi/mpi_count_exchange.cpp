@@ -2,6 +2,7 @@
 
 #include <climits>
 #include <stdexcept>
+#include <string>
 
 namespace ndtom::mapper {
 
@@ -14,19 +15,23 @@ bool MpiCountExchange::exchange(bool failed, const std::vector<std::vector<uint3
                                 std::vector<std::vector<uint32_t>>& incoming) {
   int any_failed = failed ? 1 : 0;
   MPI_Allreduce(MPI_IN_PLACE, &any_failed, 1, MPI_INT, MPI_MAX, comm_);
-  incoming.assign(size_t(ranks_), {});
-  if (any_failed) return false;
   const size_t ranks = size_t(ranks_);
+  incoming.resize(ranks);  // the messages' buffers kept from scan to scan
+  for (std::vector<uint32_t>& words : incoming) words.clear();
+  if (any_failed) return false;
   if (outgoing.size() != ranks) throw std::logic_error("MpiCountExchange: a message per process");
-  // MPI counts are ints: a scan's counts for one process fit unless it spans ~10^7 blocks.
+  // MPI counts are ints: a scan's counts fit unless they span ~10^7 blocks.
+  auto checkFits = [](size_t words, const char* direction) {
+    if (words > size_t(INT_MAX))
+      throw std::runtime_error(std::string("ndtom-map-mpi: one scan's counts ") + direction +
+                               " the other processes pass 2^31 words; use fewer, larger "
+                               "processes or --ray-share tiles");
+  };
   std::vector<int> send_counts(ranks), send_offsets(ranks), receive_counts(ranks),
       receive_offsets(ranks);
   size_t total = 0;
   for (size_t r = 0; r < ranks; ++r) {
-    if (outgoing[r].size() > size_t(INT_MAX) || total + outgoing[r].size() > size_t(INT_MAX))
-      throw std::runtime_error(
-          "ndtom-map-mpi: one scan's counts for the other processes pass "
-          "2^31 words; use fewer, larger processes or --ray-share tiles");
+    checkFits(total + outgoing[r].size(), "for");
     send_counts[r] = int(outgoing[r].size());
     send_offsets[r] = int(total);
     total += outgoing[r].size();
@@ -37,10 +42,7 @@ bool MpiCountExchange::exchange(bool failed, const std::vector<std::vector<uint3
   MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, comm_);
   size_t received = 0;
   for (size_t r = 0; r < ranks; ++r) {
-    if (received + size_t(receive_counts[r]) > size_t(INT_MAX))
-      throw std::runtime_error(
-          "ndtom-map-mpi: one scan's counts from the other processes pass "
-          "2^31 words; use fewer, larger processes or --ray-share tiles");
+    checkFits(received + size_t(receive_counts[r]), "from");
     receive_offsets[r] = int(received);
     received += size_t(receive_counts[r]);
   }

@@ -115,8 +115,7 @@ int run(int argc, char** argv) {
   }
   const MpiOptions o = parseMpiOptions(int(rest.size()), rest.data());
   if (o.map.help) {
-    std::puts(
-        "Usage: ndtom-rank-model INPUT -o PREFIX [--ranks 1,2,4,...] [ndtom-map-mpi options]");
+    std::puts("Usage: ndtom-rank-model INPUT -o PREFIX [--ranks 1,2,4,...] [ndtom-map-mpi options]");
     return 0;
   }
   const InsertionOptions insertion = resolveInsertionOptions(o.map.insertion);

@@ -46,7 +46,8 @@ class ThreadCountExchange {
     arriveAndWait(lock);  // every thread has posted
     bool any_failed = false;
     for (const bool f : failed_) any_failed = any_failed || f;
-    incoming.assign(size_t(ranks_), {});
+    incoming.resize(size_t(ranks_));  // the messages' buffers kept from scan to scan
+    for (std::vector<uint32_t>& words : incoming) words.clear();
     if (!any_failed)
       for (int r = 0; r < ranks_; ++r)
         if (r != rank) incoming[size_t(r)] = (*posted_[size_t(r)])[size_t(rank)];

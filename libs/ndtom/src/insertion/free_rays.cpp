@@ -91,8 +91,9 @@ void tradeCounts(const TileOwnership& owned, CountExchange& exchange, size_t thr
 
 }  // namespace
 
-void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points, const EndGroups& groups,
-                   std::atomic<int64_t>& blocks_left, FreeCounts& out, InsertionReport& report) {
+void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
+                   const EndGroups& groups, std::atomic<int64_t>& blocks_left, FreeCounts& out,
+                   InsertionReport& report) {
   constexpr size_t kPieces = ClassifiedPoints::kRayPieces;
   const bool per_point = scan.options.ray_mode == RayMode::PerPoint;
   const size_t rays = per_point ? points.used : groups.groups.size();
