@@ -27,7 +27,7 @@ struct BenchOptions {
   std::vector<SystemKind> systems = {SystemKind::NdtomPerPoint, SystemKind::NdtomPerHitCell,
                                      SystemKind::Octomap, SystemKind::MrptGrid3d};
   std::vector<int> threads;          ///< NDT-OM thread counts; empty = {1, 2} when the core has
-                                     ///< InsertOptions::threads, else {1}
+                                     ///< ScanOptions::threads, else {1}
   double max_range = 30.0;           ///< m, the same for every system; inf: none (Default: 30 m)
   std::vector<double> real_time_ms;  ///< scan periods drawn and reported (Default: none)
   int repeats = 1;                   ///< full runs per system and resolution (Default: 1)

@@ -1,8 +1,8 @@
 #include "map_comparison.h"
 
-#include "ndtom/map_io.h"
-#include "ndtom/map_queries.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/map/map_queries.h"
+#include "ndtom/map/ndt_map.h"
 
 // The map similarity arrived after this harness (in the core, then in ndtom_eval): use it when
 // it is there, so the harness also builds (and measures) the cores from before it.

@@ -13,7 +13,7 @@ void setThreads(Options& o, int threads) {
   } else if (threads != 1) {
     throw std::invalid_argument("--threads " + std::to_string(threads) +
                                 ": this core has no multi-threaded insertion "
-                                "(InsertOptions::threads)");
+                                "(ScanOptions::threads)");
   }
 }
 
@@ -22,9 +22,9 @@ void setThreads(Options& o, int threads) {
 NdtomSystem::NdtomSystem(double resolution, double max_range, RayMode mode, int threads)
     : threads_(threads) {
   options_.resolution = resolution;
-  options_.insertion.max_range = max_range;
-  options_.insertion.ray_mode = mode;
-  setThreads(options_.insertion, threads);
+  options_.scan.max_range = max_range;
+  options_.scan.ray_mode = mode;
+  setThreads(options_.scan, threads);
   validate(options_);
 }
 

@@ -6,18 +6,18 @@
 #include <utility>
 
 #include "mapping_system.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace ndtom::bench {
 
-/// True when the core's InsertOptions has the `threads` field (multi-threaded insertion).
+/// True when the core's ScanOptions has the `threads` field (multi-threaded insertion).
 /// Detected at compile time so the harness builds against the core before and after it.
 template <class T, class = void>
 struct HasThreadsField : std::false_type {};
 template <class T>
 struct HasThreadsField<T, std::void_t<decltype(std::declval<T&>().threads = 1)>> : std::true_type {
 };
-inline constexpr bool kCoreHasThreads = HasThreadsField<InsertOptions>::value;
+inline constexpr bool kCoreHasThreads = HasThreadsField<ScanOptions>::value;
 
 class NdtomSystem : public MappingSystem {
  public:
@@ -31,7 +31,7 @@ class NdtomSystem : public MappingSystem {
   MapSize mapSize() const override;
 
   const NdtMap& map() const { return *map_; }
-  RayMode rayMode() const { return options_.insertion.ray_mode; }
+  RayMode rayMode() const { return options_.scan.ray_mode; }
   int threads() const { return threads_; }
   /// Hands the map over (the runner keeps reference maps for comparisons).
   std::unique_ptr<NdtMap> releaseMap() { return std::move(map_); }

@@ -29,8 +29,8 @@ MapOptions ndtOmOptions(const EvalOptions& options, double resolution, RayMode r
   o.occupancy.logodds_min = options.clamp_min;
   o.occupancy.logodds_max = options.clamp_max;
   o.resolution = resolution;
-  o.insertion.ray_mode = ray_mode;
-  o.insertion.max_range = std::numeric_limits<double>::infinity();  // as the paper: no limit
+  o.scan.ray_mode = ray_mode;
+  o.scan.max_range = std::numeric_limits<double>::infinity();  // as the paper: no limit
   return o;
 }
 

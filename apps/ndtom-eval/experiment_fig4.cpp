@@ -7,7 +7,7 @@
 #include <unordered_set>
 
 #include "experiments.h"
-#include "ndtom/map_queries.h"
+#include "ndtom/map/map_queries.h"
 #include "oblique_render.h"
 #include "top_view.h"
 

@@ -7,7 +7,7 @@
 
 #include "experiments.h"
 #include "method_colors.h"
-#include "ndtom/map_queries.h"
+#include "ndtom/map/map_queries.h"
 #include "ndtom_apps/progress.h"
 #include "top_view.h"
 

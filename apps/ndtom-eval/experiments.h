@@ -8,7 +8,7 @@
 
 #include "clouds.h"
 #include "eval_options.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 #include "ndtom_apps/csv_table.h"
 #include "ndtom_eval/map_similarity.h"
 

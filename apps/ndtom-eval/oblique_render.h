@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "ndtom/gaussian.h"
+#include "ndtom/map/gaussian.h"
 
 namespace ndtom::eval {
 

@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "ndtom/cell_index.h"
-#include "ndtom/gaussian.h"
+#include "ndtom/map/cell_index.h"
+#include "ndtom/map/gaussian.h"
 #include "ndtom_apps/top_canvas.h"
 
 namespace ndtom::eval {

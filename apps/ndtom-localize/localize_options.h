@@ -6,7 +6,7 @@
 #include <string>
 
 #include "input_format.h"
-#include "ndtom/registration.h"
+#include "ndtom/registration/registration.h"
 #include "ndtom_io/pose_file.h"
 #include "tracking.h"
 

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "localize_options.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 #include "output_files.h"
 #include "tracking.h"
 

@@ -10,7 +10,7 @@
 #include "localize_outputs.h"
 #include "map_file.h"
 #include "region_map.h"
-#include "ndtom/map_queries.h"
+#include "ndtom/map/map_queries.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/run_program.h"
 #include "tracking.h"

@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_apps/run_program.h"
 #include "scan_source.h"
 

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace ndtom::localizer {
 

@@ -1,3 +1,4 @@
+#include "ndtom/scale/block_moves.h"
 #include "region_map.h"
 
 #include <cmath>
@@ -19,14 +20,14 @@ double RegionMap::distanceXY(const ndtom::CellIndex& tile, const Eigen::Vector3d
 
 void RegionMap::load(const ndtom::TileInfo& tile) {
   ndtom::NdtMap cells = file_.loadTile(tile);
-  map_.absorbBlocks(std::move(cells));
+  ndtom::absorbBlocks(map_, std::move(cells));
   resident_.insert(tile.tile);
   ++loads_;
 }
 
 void RegionMap::drop(const ndtom::CellIndex& tile) {
   const int blocks = file_.tileBlocks();
-  map_.extractBlocks([&](const ndtom::CellIndex& block) {
+  ndtom::extractBlocks(map_, [&](const ndtom::CellIndex& block) {
     return ndtom::tileOfBlock(block, blocks) == tile;
   });
   resident_.erase(tile);

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "ndtom/tiled_map.h"
+#include "ndtom/files/tiled_map_io.h"
 
 namespace ndtom::localizer {
 

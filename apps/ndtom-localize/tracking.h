@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "ndtom/global_localization.h"
-#include "ndtom/registration.h"
+#include "ndtom/localization/global_localization.h"
+#include "ndtom/registration/registration.h"
 #include "ndtom_apps/progress.h"
 #include "scan_source.h"
 

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "ndtom/scale/distributed_insert.h"
 #include "json_writer.h"
 #include "map_gather.h"
 #include "map_outputs.h"
@@ -97,8 +98,8 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
 
   // Every process inserts every scan, into its own tiles.
   const ndtom::MapOptions map_options = insertion.toMapOptions();
-  ndtom::InsertOptions insert = map_options.insertion;
-  insert.threads = insertion.insertion.threads;
+  ndtom::ScanOptions insert = map_options.scan;
+  insert.threads = insertion.scan.threads;
   const ndtom::TileOwnership owned{mo.rank_tiles, rank, ranks};
   ndtom::NdtMap part(map_options);
   MpiCountExchange exchange(comm);
@@ -119,9 +120,9 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
       const auto t = Clock::now();
       try {
         points += mo.ray_share == RayShare::Rays
-                      ? part.insertScanPart(scan->points_world, scan->sensor_origin, insert, owned,
+                      ? ndtom::insertScanPart(part, scan->points_world, scan->sensor_origin, insert, owned,
                                             exchange)
-                      : part.insertScanPart(scan->points_world, scan->sensor_origin, insert, owned);
+                      : ndtom::insertScanPart(part, scan->points_world, scan->sensor_origin, insert, owned);
       } catch (const std::invalid_argument& e) {
         throw InputError(scan->name + ": " + e.what());
       }

@@ -1,9 +1,10 @@
+#include "ndtom/scale/block_moves.h"
 #include "map_gather.h"
 
 #include <vector>
 
 #include "mpi_pieces.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 
 namespace ndtom::mapper {
 
@@ -32,7 +33,7 @@ NdtMap gatherMap(NdtMap part, MPI_Comm comm, uint64_t& bytes_sent) {
     });
     NdtMap other = decodeMap(bytes.data(), bytes.size(), "process " + std::to_string(from) +
                                                              "'s part of the map");
-    part.absorbBlocks(std::move(other));
+    ndtom::absorbBlocks(part, std::move(other));
   }
   return part;
 }

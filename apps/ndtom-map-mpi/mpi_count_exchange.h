@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "ndtom/count_exchange.h"
+#include "ndtom/partition/count_exchange.h"
 
 namespace ndtom::mapper {
 

@@ -2,7 +2,7 @@
 
 #include <vector>
 
-#include "ndtom/tiles.h"
+#include "ndtom/map/tile_index.h"
 #include "ndtom_apps/option_values.h"
 
 namespace ndtom::mapper {

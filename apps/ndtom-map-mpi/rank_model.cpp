@@ -14,8 +14,9 @@
 #include <thread>
 #include <vector>
 
+#include "ndtom/scale/distributed_insert.h"
 #include "mpi_options.h"
-#include "ndtom/thread_count_exchange.h"
+#include "ndtom_internal/thread_count_exchange.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"
@@ -57,7 +58,7 @@ class CountedPort : public ndtom::CountExchange {
 // each, as they must trade counts scan by scan.
 std::vector<Share> insertSharedRays(const std::vector<Scan>& scans,
                                     const ndtom::MapOptions& options,
-                                    const ndtom::InsertOptions& insert, int rank_tiles, int ranks) {
+                                    const ndtom::ScanOptions& insert, int rank_tiles, int ranks) {
   ndtom::ThreadCountExchange hub(ranks);
   std::vector<Share> shares(static_cast<size_t>(ranks));
   std::vector<std::exception_ptr> errors(static_cast<size_t>(ranks));
@@ -71,7 +72,7 @@ std::vector<Share> insertSharedRays(const std::vector<Scan>& scans,
         Share& s = shares[size_t(r)];
         const double start = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
         for (const Scan& scan : scans)
-          s.visits += map.insertScanPart(scan.points_world, scan.sensor_origin, insert, owned, port)
+          s.visits += ndtom::insertScanPart(map, scan.points_world, scan.sensor_origin, insert, owned, port)
                           .voxel_visits;
         s.cpu_s = cpuSeconds(CLOCK_THREAD_CPUTIME_ID) - start;
         s.cells = map.numCells();
@@ -88,14 +89,14 @@ std::vector<Share> insertSharedRays(const std::vector<Scan>& scans,
 
 // One rank's part of the map from every scan (ranks == 1 with the serial insertScan).
 Share insertShare(const std::vector<Scan>& scans, const ndtom::MapOptions& options,
-                  const ndtom::InsertOptions& insert, const ndtom::TileOwnership& owned) {
+                  const ndtom::ScanOptions& insert, const ndtom::TileOwnership& owned) {
   ndtom::NdtMap map(options);
   Share s;
   const double start = cpuSeconds();
   for (const Scan& scan : scans) {
     const ndtom::InsertionReport r =
         owned.ranks == 1 ? map.insertScan(scan.points_world, scan.sensor_origin, insert)
-                         : map.insertScanPart(scan.points_world, scan.sensor_origin, insert, owned);
+                         : ndtom::insertScanPart(map, scan.points_world, scan.sensor_origin, insert, owned);
     s.visits += r.voxel_visits;
   }
   s.cpu_s = cpuSeconds() - start;
@@ -123,7 +124,7 @@ int run(int argc, char** argv) {
   std::vector<Scan> scans;
   while (auto scan = source->next()) scans.push_back(std::move(*scan));
   const ndtom::MapOptions options = insertion.toMapOptions();
-  ndtom::InsertOptions insert = options.insertion;
+  ndtom::ScanOptions insert = options.scan;
   insert.threads = 1;  // one core per process
 
   const Share serial = insertShare(scans, options, insert, {o.rank_tiles, 0, 1});

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "ndtom/map_queries.h"
+#include "ndtom/map/map_queries.h"
 
 namespace ndtom::mapper {
 

@@ -2,7 +2,7 @@
 
 #include <filesystem>
 
-#include "ndtom/input_file.h"
+#include "ndtom_internal/input_file.h"
 #include "ndtom_apps/option_values.h"
 
 namespace fs = std::filesystem;

@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "input_format.h"
-#include "ndtom/option_table.h"
+#include "ndtom/map/option_table.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/run_program.h"
 
@@ -150,8 +150,8 @@ void checkSection(const mrpt::config::CConfigFileBase& file, const std::string& 
 // for any count, so a program has no reason to leave cores idle.
 InsertionOptions programDefaults() {
   InsertionOptions o;
-  o.insertion.threads = std::clamp(int32_t(std::thread::hardware_concurrency()), int32_t(1),
-                                   int32_t(ndtom::InsertOptions::kMaxThreads));
+  o.scan.threads = std::clamp(int32_t(std::thread::hardware_concurrency()), int32_t(1),
+                                   int32_t(ndtom::ScanOptions::kMaxThreads));
   return o;
 }
 

@@ -97,7 +97,7 @@ int run(const MapperOptions& o) {
   if (!o.quiet) std::fprintf(stderr, "ndtom-map: %s\n", source->description().c_str());
   BuildSettings build;
   build.map = insertion.toMapOptions();
-  build.threads = insertion.insertion.threads;
+  build.threads = insertion.scan.threads;
   build.passes = o.passes;
   build.motion = o.motion;
   std::optional<SpillFolder> spill;
@@ -147,7 +147,7 @@ int run(const MapperOptions& o) {
 
   // The summary, then every file into place at once.
   RunSummary summary = summarize(o, settings, map.ndtMap().options(),
-                                 map.insertionOptions.insertion.threads, mapping, coarse, start);
+                                 map.insertionOptions.scan.threads, mapping, coarse, start);
   summary.peak_rss_after_mapping = peak_rss_after_mapping;
   writeSummaryAndCommit(o, summary, times, out);
   return 0;

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <future>
 
-#include "ndtom/map_queries.h"
+#include "ndtom/map/map_queries.h"
 #include "ndtom_apps/process_memory.h"
 
 namespace ndtom::mapper {
@@ -76,7 +76,7 @@ class ScanReader {
 };
 
 // One pass: every scan of `source` into `result.map`.
-void insertAll(ScanSource& source, const ndtom::InsertOptions& insert,
+void insertAll(ScanSource& source, const ndtom::ScanOptions& insert,
                const apps::MotionThresholds& motion, bool first_pass, const std::string& input,
                MappingResult& result, apps::Progress& progress) {
   size_t done = 0, points = 0;
@@ -118,7 +118,7 @@ MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings&
   if (build.resident_budget > 0)
     result.out_of_core = std::make_unique<ndtom::OutOfCoreMap>(
         build.map, build.resident_budget, build.tile_blocks, build.spill_folder);
-  ndtom::InsertOptions insert = build.map.insertion;
+  ndtom::ScanOptions insert = build.map.scan;
   insert.threads = build.threads;
   for (int pass = 1; pass <= build.passes; ++pass) {
     if (pass > 1) source = openScanSource(settings);

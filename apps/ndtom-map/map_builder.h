@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "ndtom/ndt_map.h"
-#include "ndtom/out_of_core_map.h"
+#include "ndtom/map/ndt_map.h"
+#include "ndtom/scale/out_of_core_map.h"
 #include "ndtom_apps/motion_gate.h"
 #include "ndtom_apps/progress.h"
 #include "scan_source.h"

@@ -6,7 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "depth_canvas.h"
-#include "ndtom/map_queries.h"
+#include "ndtom/map/map_queries.h"
 #include "picture_layout.h"
 
 namespace ndtom::mapper {

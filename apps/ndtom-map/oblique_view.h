@@ -9,7 +9,7 @@
 
 #include "height_colors.h"
 #include "mrpt_ndtom/ndt_visualization.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace ndtom::mapper {
 

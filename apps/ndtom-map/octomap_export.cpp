@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "ndtom/map_queries.h"
+#include "ndtom/map/map_queries.h"
 
 namespace ndtom::mapper {
 

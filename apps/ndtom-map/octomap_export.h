@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace ndtom::mapper {
 

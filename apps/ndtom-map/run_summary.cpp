@@ -165,7 +165,7 @@ std::string summaryJson(const RunSummary& s) {
   j.field("format", s.format);
   j.field("source", m.source_description);
   j.field("resolution_m", s.map_options.resolution);
-  j.field("ray_mode", ndtom::toString(s.map_options.insertion.ray_mode));
+  j.field("ray_mode", ndtom::toString(s.map_options.scan.ray_mode));
   j.field("occupancy_enabled", s.map_options.occupancy.enabled);
   j.field("threads", s.threads);
   j.field("scans", last.scans);

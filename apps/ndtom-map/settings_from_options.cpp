@@ -14,7 +14,7 @@ SourceSettings sourceSettingsFor(const MapperOptions& o, const InsertionOptions&
   s.decimation_3d_range = insertion.decimation_3d_range;
   s.max_scans = o.max_scans;
   s.max_scan_points =
-      ndtom::NdtMap::maxScanPoints(insertion.toMapOptions().insertion.memory_budget);
+      ndtom::NdtMap::maxScanPoints(insertion.toMapOptions().scan.memory_budget);
   return s;
 }
 
@@ -25,7 +25,7 @@ OutputSettings outputSettingsFor(const MapperOptions& o, const InsertionOptions&
   s.image_width = o.image_width;
   s.max_ellipsoids = o.max_ellipsoids;
   s.octomap = o.octomap;
-  s.threads = insertion.insertion.threads;
+  s.threads = insertion.scan.threads;
   s.tile_blocks = o.tile_blocks;
   return s;
 }

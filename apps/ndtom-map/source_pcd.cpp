@@ -8,8 +8,8 @@
 
 #include "input_format.h"
 #include "natural_order.h"
-#include "ndtom/checked_size.h"
-#include "ndtom/input_file.h"
+#include "ndtom_internal/checked_size.h"
+#include "ndtom_internal/input_file.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_io/pcd_reader.h"
 #include "scan_source.h"

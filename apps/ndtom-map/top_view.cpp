@@ -6,7 +6,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
-#include "ndtom/map_queries.h"
+#include "ndtom/map/map_queries.h"
 #include "ndtom_apps/top_canvas.h"
 #include "picture_layout.h"
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "height_colors.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace ndtom::mapper {
 

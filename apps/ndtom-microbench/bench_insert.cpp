@@ -14,7 +14,7 @@ using ndtom::microbench::realScans;
 
 constexpr size_t kPreviousScans = 5;  // scans 0-4 in the map, scan 5 inserted
 
-/// Sets InsertOptions::threads where the core has it (multi-threaded insertion).
+/// Sets ScanOptions::threads where the core has it (multi-threaded insertion).
 template <class T, class = void>
 struct HasThreads : std::false_type {};
 template <class T>
@@ -34,8 +34,8 @@ void BM_InsertScan(benchmark::State& state) {
   const auto mode = static_cast<ndtom::RayMode>(state.range(0));
   const bool into_empty = state.range(1) == 0;
   ndtom::MapOptions options = benchOptions(0.2, mode);
-  if (!setThreads(options.insertion, int(state.range(2)))) {
-    state.SkipWithError("this core has no InsertOptions::threads");
+  if (!setThreads(options.scan, int(state.range(2)))) {
+    state.SkipWithError("this core has no ScanOptions::threads");
     return;
   }
   const auto& scans = realScans(kPreviousScans + 1);

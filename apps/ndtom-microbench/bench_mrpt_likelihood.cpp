@@ -34,7 +34,7 @@ struct MrptFixture {
     const auto& all = ndtom::microbench::realScans(36);
     const size_t scan = all.size() > 35 ? 35 : all.size() - 1;
     auto map = mrpt_ndtom::CNDTOccupancyMap::Create(0.2);
-    map->insertionOptions.insertion.max_range = 30.0;
+    map->insertionOptions.scan.max_range = 30.0;
     map->likelihoodOptions.likelihood_method =
         mrpt_ndtom::CNDTOccupancyMap::TLikelihoodMethod::NdtMcl;
     map->likelihoodOptions.outlier_likelihood = 0.1;

@@ -12,9 +12,9 @@
 #include <random>
 
 #include "microbench_data.h"
-#include "ndtom/gaussian_lookup.h"
-#include "ndtom/ndt_likelihood.h"
-#include "ndtom/ndt_mcl.h"
+#include "ndtom/matching/gaussian_lookup.h"
+#include "ndtom/matching/ndt_likelihood.h"
+#include "ndtom/localization/ndt_mcl.h"
 
 namespace {
 

@@ -3,7 +3,7 @@
 
 #include <random>
 
-#include "ndtom/ray_dda.h"
+#include "map/ray_dda.h"
 
 namespace {
 

@@ -27,8 +27,8 @@ const std::vector<WorldScan>& realScans(size_t count) {
 MapOptions benchOptions(double resolution, RayMode mode) {
   MapOptions o;
   o.resolution = resolution;
-  o.insertion.max_range = 30.0;
-  o.insertion.ray_mode = mode;
+  o.scan.max_range = 30.0;
+  o.scan.ray_mode = mode;
   return o;
 }
 

@@ -9,7 +9,7 @@ NdtMap buildNdtMap(const LidarSequence& sequence, const std::vector<int>& scans,
                    double max_range) {
   MapOptions options;
   options.resolution = resolution;
-  options.insertion.max_range = max_range;
+  options.scan.max_range = max_range;
   NdtMap map(options);
   std::vector<Eigen::Vector3d> world;
   for (int i : scans) {

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "lidar_sequence.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 #include "registration_system.h"
 
 namespace ndtom::regbench {

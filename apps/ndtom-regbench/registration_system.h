@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "ndtom/registration.h"
+#include "ndtom/registration/registration.h"
 
 namespace ndtom::regbench {
 

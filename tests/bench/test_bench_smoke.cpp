@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 
@@ -129,7 +129,7 @@ TEST_F(BenchSmoke, NdtomFiguresMatchAMapBuiltHere) {
   ASSERT_EQ(status_, 0);
   ndtom::MapOptions options;
   options.resolution = kResolution;
-  options.insertion.max_range = kMaxRange;
+  options.scan.max_range = kMaxRange;
   ndtom::NdtMap map(options);
   size_t points = 0, visits = 0;
   for (const auto& [origin, world] : worldScans()) {

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace ndtom::testing {
 

@@ -10,8 +10,8 @@
 #include <set>
 #include <utility>
 
-#include "ndtom/map_io.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/map/ndt_map.h"
 #include "support/brute_force.h"
 
 using Eigen::Vector3d;

@@ -11,8 +11,8 @@
 #include <tuple>
 #include <utility>
 
-#include "ndtom/cell_rules.h"
-#include "ndtom/map_io.h"
+#include "ndtom/map/cell_rules.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_internal/crc32.h"
 #include "support/ndtom_file_builder.h"
 
@@ -162,7 +162,7 @@ TEST(CellRules, EverythingInsertableRoundTrips) {
   for (const double r : {0.1, 0.3, 1.0}) {
     MapOptions o;
     o.resolution = r;
-    o.insertion.max_range = 10 * r;
+    o.scan.max_range = 10 * r;
     std::mt19937 rng(1);
     for (int k = 0; k < 400; ++k) {
       NdtMap map(o);
@@ -184,7 +184,7 @@ TEST(CellRules, EverythingInsertableRoundTrips) {
     const double lo = (-kTop + 0.5) * r, hi = (kTop + 0.5) * r;
     const auto report = edge.insertScan({{lo, lo, lo}, {hi, hi, hi}, {lo, hi, 0.1}},
                                         Vector3d(0.05, 0.05, 0.05), [&] {
-                                          auto in = o.insertion;
+                                          auto in = o.scan;
                                           in.max_range = std::numeric_limits<double>::infinity();
                                           return in;
                                         }());

@@ -3,7 +3,7 @@
 
 #include <random>
 
-#include "ndtom/cell_stats.h"
+#include "ndtom/map/cell_stats.h"
 
 using Eigen::Matrix3d;
 using Eigen::Vector3d;

@@ -8,9 +8,11 @@
 #include <map>
 #include <random>
 
-#include "ndtom/map_io.h"
-#include "ndtom/owned_ray_walk.h"
-#include "ndtom/ray_dda.h"
+#include "ndtom/scale/distributed_insert.h"
+#include "ndtom/scale/block_moves.h"
+#include "ndtom/files/map_io.h"
+#include "partition/owned_ray_walk.h"
+#include "map/ray_dda.h"
 #include "support/lidar_scans.h"
 #include "support/map_equality.h"
 
@@ -66,9 +68,9 @@ std::map<CellIndex, int> ownedWalks(const GridGeometry& g, const Eigen::Vector3d
     const TileOwnership owned{tile_blocks, rank, ranks};
     RecordingWalker w{&owned, &cells};
     if (rank % 2 == 0)
-      ndtom::OwnedRayWalk::walk(g, from, to, ndtom::OwnedTiles(owned, lo, hi), w);
+      ndtom::OwnedRayWalk::walk(g, from, to, ndtom::TileOwnerTable(owned, lo, hi), w);
     else
-      ndtom::OwnedRayWalk::walk(g, from, to, ndtom::OwnedTiles(owned), w);
+      ndtom::OwnedRayWalk::walk(g, from, to, ndtom::TileOwnerTable(owned), w);
     steps += w.steps;
   }
   return cells;
@@ -151,13 +153,13 @@ TEST(OwnedRayWalk, RaysThroughMoreStretchesThanItKeepsApartToo) {
   }
 }
 
-TEST(OwnedTiles, TheTableAnswersAsTheOwnershipForTilesInAndAroundItsBox) {
+TEST(TileOwnerTable, TheTableAnswersAsTheOwnershipForTilesInAndAroundItsBox) {
   for (const int tile_blocks : {1, 3, 4}) {  // 3: tiles not a power of two cells wide
     for (const int ranks : {1, 2, 5}) {
       for (int rank = 0; rank < ranks; ++rank) {
         const TileOwnership o{tile_blocks, rank, ranks};
         const CellIndex lo{-70, -5, -200}, hi{45, 90, -100};
-        const ndtom::OwnedTiles table(o, lo, hi), hashed(o);
+        const ndtom::TileOwnerTable table(o, lo, hi), hashed(o);
         const int32_t edge = o.tileCells();
         // Every cell of the box, and cells three tiles beyond it on every side.
         for (int32_t z = lo.z - 3 * edge; z <= hi.z + 3 * edge; z += 7)
@@ -205,7 +207,7 @@ TEST(OwnedRayWalk, StretchesEnteredAndLeftAlongOneAxisVisitOnlyTheirOwnCells) {
     for (int rank = 0; rank < ranks; ++rank) {
       const TileOwnership owned{2, rank, ranks};
       RecordingWalker w{&owned, &cells};
-      ndtom::OwnedRayWalk::walk(g, from, to, ndtom::OwnedTiles(owned), w);
+      ndtom::OwnedRayWalk::walk(g, from, to, ndtom::TileOwnerTable(owned), w);
       foreign += w.foreign;
     }
     for (const auto& [cell, n] : cells) visits += size_t(n);
@@ -220,8 +222,8 @@ TEST(DistributedBuild, ProcessesMapsTogetherAreTheSerialMapBitForBit) {
   for (const auto mode : {ndtom::RayMode::PerPoint, ndtom::RayMode::PerHitCell}) {
     ndtom::MapOptions o;
     o.resolution = 0.4;
-    o.insertion.max_range = 30;
-    o.insertion.ray_mode = mode;
+    o.scan.max_range = 30;
+    o.scan.ray_mode = mode;
     o.occupancy.logodds_max = 1.0;  // clamps after a few scans: a merge of maps would not
     NdtMap serial(o);
     for (const auto& s : scans) serial.insertScan(s.points, s.origin);
@@ -229,20 +231,20 @@ TEST(DistributedBuild, ProcessesMapsTogetherAreTheSerialMapBitForBit) {
       for (const int threads : {1, 2}) {
         SCOPED_TRACE(testing::Message() << "mode " << int(mode) << ", " << ranks << " ranks, "
                                         << threads << " threads");
-        ndtom::InsertOptions insert = o.insertion;
+        ndtom::ScanOptions insert = o.scan;
         insert.threads = threads;
         NdtMap together(o);
         for (int rank = 0; rank < ranks; ++rank) {
           const TileOwnership owned{2, rank, ranks};
           NdtMap part(o);
-          for (const auto& s : scans) part.insertScanPart(s.points, s.origin, insert, owned);
+          for (const auto& s : scans) ndtom::insertScanPart(part, s.points, s.origin, insert, owned);
           size_t foreign = 0;
           part.forEachBlock([&](const CellIndex& b) { foreign += !owned.ownsBlock(b); });
           EXPECT_EQ(foreign, 0u);
           if (ranks > 1) {
             EXPECT_LT(part.numCells(), serial.numCells() * 3 / 4);
           }
-          together.absorbBlocks(std::move(part));
+          ndtom::absorbBlocks(together, std::move(part));
         }
         ndtom::testing::expectBitIdentical(serial, together);
         EXPECT_EQ(ndtom::encodeMap(serial), ndtom::encodeMap(together));
@@ -256,6 +258,6 @@ TEST(DistributedBuild, RefusesAnInvalidOwnership) {
   const std::vector<Eigen::Vector3d> points{{1, 0, 0}};
   for (const TileOwnership bad : {TileOwnership{0, 0, 1}, TileOwnership{1, 2, 2},
                                   TileOwnership{1, -1, 2}, TileOwnership{1, 0, 0}})
-    EXPECT_THROW(map.insertScanPart(points, {0, 0, 0}, {}, bad), std::invalid_argument);
+    EXPECT_THROW(ndtom::insertScanPart(map, points, {0, 0, 0}, {}, bad), std::invalid_argument);
   EXPECT_TRUE(map.isEmpty());
 }

@@ -6,7 +6,8 @@
 #include <utility>
 #include <vector>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/scale/block_moves.h"
+#include "ndtom/map/ndt_map.h"
 #include "support/map_equality.h"
 
 namespace {
@@ -36,8 +37,8 @@ TEST(ExtractBlocks, RangeTakesWhatThePredicateTakes) {
       {{100, 100, 100}, {101, 101, 101}}};  // nothing there
   for (const auto& [lo, hi] : ranges) {
     NdtMap by_range = map, by_predicate = map;
-    const NdtMap taken = by_range.extractBlockRange(lo, hi);
-    const NdtMap expected = by_predicate.extractBlocks([&](const CellIndex& b) {
+    const NdtMap taken = ndtom::extractBlockRange(by_range, lo, hi);
+    const NdtMap expected = ndtom::extractBlocks(by_predicate, [&](const CellIndex& b) {
       return b.x >= lo.x && b.x <= hi.x && b.y >= lo.y && b.y <= hi.y && b.z >= lo.z && b.z <= hi.z;
     });
     ndtom::testing::expectBitIdentical(taken, expected);

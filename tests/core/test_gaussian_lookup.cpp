@@ -7,7 +7,7 @@
 #include <random>
 #include <set>
 
-#include "ndtom/gaussian_lookup.h"
+#include "ndtom/matching/gaussian_lookup.h"
 #include "synthetic_room.h"
 
 using Eigen::Matrix3d;

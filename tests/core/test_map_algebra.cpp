@@ -4,7 +4,7 @@
 #include <map>
 #include <random>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 #include "ndtom_eval/batch_ndt.h"
 
 using Eigen::Vector3d;

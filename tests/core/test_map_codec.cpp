@@ -11,7 +11,7 @@
 #include <optional>
 #include <random>
 
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_internal/crc32.h"
 #include "support/lidar_scans.h"
 #include "support/map_equality.h"
@@ -51,7 +51,7 @@ std::vector<uint8_t> withCrc(std::vector<uint8_t> b) {
 NdtMap lidarMap(size_t first, size_t scans) {
   MapOptions o;
   o.resolution = 0.2;
-  o.insertion.max_range = 30;
+  o.scan.max_range = 30;
   NdtMap map(o);
   const auto all = ndtom::testing::lidarScansInWorld(first + scans);
   for (size_t i = first; i < all.size(); ++i) map.insertScan(all[i].points, all[i].origin);

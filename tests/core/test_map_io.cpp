@@ -7,7 +7,7 @@
 #include <optional>
 #include <random>
 
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_internal/atomic_file.h"
 #include "ndtom_internal/crc32.h"
 
@@ -21,8 +21,8 @@ NdtMap sampleMap() {
   MapOptions o;
   o.resolution = 0.35;
   o.occupancy.p_hit = 0.7;
-  o.insertion.max_range = 8.0;
-  o.insertion.ray_mode = ndtom::RayMode::PerHitCell;
+  o.scan.max_range = 8.0;
+  o.scan.ray_mode = ndtom::RayMode::PerHitCell;
   NdtMap map(o);
   std::mt19937 rng(12);
   std::uniform_real_distribution<double> u(-4, 4);
@@ -53,8 +53,8 @@ void expectIdentical(const NdtMap& a, const NdtMap& b) {
   ASSERT_EQ(a.numCells(), b.numCells());
   EXPECT_EQ(a.options().resolution, b.options().resolution);
   EXPECT_EQ(a.options().occupancy.p_hit, b.options().occupancy.p_hit);
-  EXPECT_EQ(a.options().insertion.max_range, b.options().insertion.max_range);
-  EXPECT_EQ(a.options().insertion.ray_mode, b.options().insertion.ray_mode);
+  EXPECT_EQ(a.options().scan.max_range, b.options().scan.max_range);
+  EXPECT_EQ(a.options().scan.ray_mode, b.options().scan.ray_mode);
   a.forEachCell([&](const ndtom::CellView& ca) {
     const auto cb = b.cell(ca.index);
     ASSERT_TRUE(cb);

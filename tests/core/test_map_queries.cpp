@@ -7,7 +7,7 @@
 #include <random>
 
 #include "core/synthetic_room.h"
-#include "ndtom/map_queries.h"
+#include "ndtom/map/map_queries.h"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 
-#include "ndtom/ndt_correspondences.h"
+#include "ndtom/matching/ndt_correspondences.h"
 #include "synthetic_room.h"
 
 using Eigen::Isometry3d;

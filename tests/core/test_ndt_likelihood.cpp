@@ -6,7 +6,7 @@
 #include <Eigen/LU>
 #include <cmath>
 
-#include "ndtom/ndt_likelihood.h"
+#include "ndtom/matching/ndt_likelihood.h"
 #include "synthetic_room.h"
 
 using Eigen::Vector3d;

@@ -7,8 +7,8 @@
 #include <random>
 #include <string>
 
-#include "ndtom/map_io.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/map/ndt_map.h"
 #include "ndtom_eval/batch_ndt.h"
 #include "support/oracle_map.h"
 
@@ -176,9 +176,9 @@ TEST(NdtMapOccupancy, MatchesBruteForceOracleOverRandomScans) {
       SCOPED_TRACE(std::string(ndtom::toString(mode)) + ", max_range " + std::to_string(max_range));
       MapOptions o;
       o.resolution = 0.5;
-      o.insertion.ray_mode = mode;
-      o.insertion.max_range = max_range;
-      o.insertion.min_range = 0.2;
+      o.scan.ray_mode = mode;
+      o.scan.max_range = max_range;
+      o.scan.min_range = 0.2;
       NdtMap map(o);
       ndtom::testing::OracleMap oracle(o);
       std::mt19937 rng(99);
@@ -226,7 +226,7 @@ TEST(NdtMapRecursive, EndsKilometresApartEqualBatchForAnyThreadCount) {
   // of one of 70,000 points (17 bits) do not fit one word, so blocks are numbered as met.
   MapOptions o = unitGrid();
   o.occupancy.enabled = false;  // 26 km rays would take long to trace
-  o.insertion.max_range = std::numeric_limits<double>::infinity();
+  o.scan.max_range = std::numeric_limits<double>::infinity();
   std::mt19937 rng(8);
   std::normal_distribution<double> spread(0.0, 0.6);
   std::vector<Vector3d> points;
@@ -241,7 +241,7 @@ TEST(NdtMapRecursive, EndsKilometresApartEqualBatchForAnyThreadCount) {
   const auto batch = ndtom::batchNdt(points, ndtom::GridGeometry(o.resolution));
   std::vector<std::vector<uint8_t>> encoded;
   for (const int threads : {1, 2}) {
-    o.insertion.threads = threads;
+    o.scan.threads = threads;
     NdtMap map(o);
     const auto report = map.insertScan(points, Vector3d::Zero());
     ASSERT_EQ(report.hits, points.size());
@@ -262,8 +262,8 @@ TEST(NdtMapRecursive, EndsKilometresApartEqualBatchForAnyThreadCount) {
 TEST(NdtMapInput, BadPointsAreCountedAndChangeNothingElse) {
   MapOptions o;
   o.resolution = 0.5;
-  o.insertion.min_range = 0.3;
-  o.insertion.max_range = std::numeric_limits<double>::infinity();  // far points are rejected
+  o.scan.min_range = 0.3;
+  o.scan.max_range = std::numeric_limits<double>::infinity();  // far points are rejected
   std::mt19937 rng(8);
   Vector3d origin;
   const auto clean = randomScan(rng, &origin);
@@ -312,7 +312,7 @@ TEST(NdtMapInput, BadOriginThrowsAndLeavesTheMap) {
   const auto before = ndtom::encodeMap(map);
   EXPECT_THROW(map.insertScan(pts, Vector3d(NAN, 0, 0)), std::invalid_argument);
   EXPECT_THROW(map.insertScan(pts, Vector3d(0, 0, 1e15)), std::invalid_argument);
-  ndtom::InsertOptions bad;
+  ndtom::ScanOptions bad;
   bad.max_range = -1;
   EXPECT_THROW(map.insertScan(pts, origin, bad), std::invalid_argument);
   EXPECT_EQ(ndtom::encodeMap(map), before);
@@ -320,7 +320,7 @@ TEST(NdtMapInput, BadOriginThrowsAndLeavesTheMap) {
 
 TEST(NdtMapInput, MaxRangeTruncatesTheFreeRayAndDropsTheHit) {
   MapOptions o = unitGrid();
-  o.insertion.max_range = 2.0;
+  o.scan.max_range = 2.0;
   NdtMap map(o);
   const auto report = map.insertScan({{5.5, 0.5, 0.5}}, {0.5, 0.5, 0.5});
   EXPECT_EQ(report.truncated, 1u);
@@ -335,7 +335,7 @@ TEST(NdtMapInput, MaxRangeTruncatesTheFreeRayAndDropsTheHit) {
 
 TEST(NdtMapRayModes, PerHitCellCastsOneWeightedRayPerCell) {
   MapOptions o = unitGrid();
-  o.insertion.ray_mode = ndtom::RayMode::PerHitCell;
+  o.scan.ray_mode = ndtom::RayMode::PerHitCell;
   NdtMap map(o);
   const auto report = map.insertScan(
       {{3.2, 0.5, 0.5}, {3.5, 0.5, 0.5}, {3.7, 0.6, 0.4}, {0.5, 3.5, 0.5}}, {0.5, 0.5, 0.5});
@@ -353,7 +353,7 @@ TEST(NdtMapRayModes, HitsAndGaussiansDoNotDependOnTheRayMode) {
   per_point.resolution = 0.5;
   per_point.occupancy.logodds_min = -0.5;
   MapOptions per_cell = per_point;
-  per_cell.insertion.ray_mode = ndtom::RayMode::PerHitCell;
+  per_cell.scan.ray_mode = ndtom::RayMode::PerHitCell;
   NdtMap a(per_point), b(per_cell);
   std::mt19937 rng(4);
   for (int i = 0; i < 5; ++i) {
@@ -424,10 +424,10 @@ TEST(NdtMapThreads, AnyThreadCountGivesTheSameMap) {
   for (const auto mode : {ndtom::RayMode::PerPoint, ndtom::RayMode::PerHitCell}) {
     MapOptions o;
     o.resolution = 0.3;
-    o.insertion.ray_mode = mode;
+    o.scan.ray_mode = mode;
     std::vector<NdtMap> maps;
     for (const int threads : {1, 2, 3}) {
-      o.insertion.threads = threads;
+      o.scan.threads = threads;
       NdtMap map(o);
       std::mt19937 rng(21);
       for (int scan = 0; scan < 6; ++scan) {
@@ -445,7 +445,7 @@ TEST(NdtMapThreads, AnyThreadCountGivesTheSameMap) {
 }
 
 TEST(NdtMapThreads, BadThreadCountIsRejected) {
-  ndtom::InsertOptions o;
+  ndtom::ScanOptions o;
   o.threads = 0;
   EXPECT_THROW(ndtom::validate(o), std::invalid_argument);
   o.threads = 100000;

@@ -12,7 +12,7 @@
 #include <map>
 #include <random>
 
-#include "ndtom/ndt_mcl.h"
+#include "ndtom/localization/ndt_mcl.h"
 #include "ndtom_eval/batch_ndt.h"
 #include "synthetic_room.h"
 

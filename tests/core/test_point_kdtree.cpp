@@ -6,7 +6,7 @@
 #include <limits>
 #include <random>
 
-#include "ndtom/point_kdtree.h"
+#include "ndtom/matching/point_kdtree.h"
 
 using Eigen::Vector3d;
 using ndtom::PointKdTree;

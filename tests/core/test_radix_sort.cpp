@@ -5,7 +5,7 @@
 #include <random>
 #include <vector>
 
-#include "radix_sort.h"
+#include "support/radix_sort.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include <random>
 #include <set>
 
-#include "ndtom/ray_dda.h"
+#include "map/ray_dda.h"
 #include "support/brute_force.h"
 
 using Eigen::Vector3d;

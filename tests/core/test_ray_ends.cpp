@@ -35,7 +35,7 @@ void expectProcessGrouping(const ndtom::ScanContext& scan,
                            const std::vector<Eigen::Vector3d>& points,
                            const ndtom::TileOwnership& owned, const Grouping& serial) {
   const ndtom::GridGeometry& geometry = scan.geometry;
-  const ndtom::InsertOptions& options = scan.options;
+  const ndtom::ScanOptions& options = scan.options;
   // The oracle: each owned hit cell's points in input order, from the raw points.
   std::map<CellIndex, std::vector<Eigen::Vector3d>> oracle;
   for (const Eigen::Vector3d& p : points) {
@@ -88,12 +88,12 @@ TEST(RayEnds, AProcessGroupsExactlyTheHitsInItsTilesAsTheSerialGroupingDoes) {
   ndtom::WorkerPool pool;
   for (const double resolution : {0.2, 0.3}) {
     const ndtom::GridGeometry geometry(resolution);
-    ndtom::InsertOptions options;
+    ndtom::ScanOptions options;
     options.max_range = 12;  // truncated rays too: those must not be grouped
     for (const int threads : {1, 2}) {
       options.threads = threads;
       for (const auto& s : scans) {
-        const ndtom::ScanContext scan{geometry, options, s.origin, pool, nullptr};
+        const ndtom::ScanContext scan{geometry, options, s.origin, pool};
         Grouping serial;
         group(scan, s.points, nullptr, serial);
         ASSERT_GT(serial.report.truncated, 1000u);
@@ -117,14 +117,14 @@ TEST(RayEnds, AProcessGroupsItsHitsWhenTheEndsSpanMoreBlocksThanTheTableHolds) {
   const auto scans = ndtom::testing::lidarScansInWorld(1);
   ndtom::WorkerPool pool;
   const ndtom::GridGeometry geometry(0.2);
-  ndtom::InsertOptions options;
+  ndtom::ScanOptions options;
   options.max_range = 5000;
   options.threads = 1;
   std::vector<Eigen::Vector3d> points = scans[0].points;
   const Eigen::Vector3d o = scans[0].origin;
   for (const double d : {-1500.0, 1500.0})  // a box of ~1900 x 1900 blocks: over 2^20
     for (int k = 0; k < 40; ++k) points.push_back(o + Eigen::Vector3d(d, -d + 0.37 * k, 0.5 * k));
-  const ndtom::ScanContext scan{geometry, options, o, pool, nullptr};
+  const ndtom::ScanContext scan{geometry, options, o, pool};
   Grouping serial;
   group(scan, points, nullptr, serial);
   const CellIndex &lo = serial.points.ends_lo, &hi = serial.points.ends_hi;
@@ -141,11 +141,11 @@ TEST(RayEnds, AProcessGroupsItsHitsWhenTheEndsSpanMoreBlocksThanTheTableHolds) {
 TEST(RayEnds, AProcessWithoutHitsInItsTilesGroupsNothing) {
   ndtom::WorkerPool pool;
   const ndtom::GridGeometry geometry(0.2);
-  ndtom::InsertOptions options;
+  ndtom::ScanOptions options;
   const Eigen::Vector3d origin(0.1, 0.1, 0.1);
   const std::vector<Eigen::Vector3d> points{
       {1.01, 1.01, 0.51}, {1.21, 1.01, 0.51}, {1.41, 1.01, 0.51}};  // 3 cells, 1 block
-  const ndtom::ScanContext scan{geometry, options, origin, pool, nullptr};
+  const ndtom::ScanContext scan{geometry, options, origin, pool};
   const CellIndex tile = ndtom::blockOf(geometry.cellOf(points[0]));  // tiles of one block
   for (int rank = 0; rank < 2; ++rank) {
     const ndtom::TileOwnership owned{1, rank, 2};

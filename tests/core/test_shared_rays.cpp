@@ -9,8 +9,10 @@
 #include <stdexcept>
 #include <thread>
 
-#include "ndtom/map_io.h"
-#include "ndtom/thread_count_exchange.h"
+#include "ndtom/scale/distributed_insert.h"
+#include "ndtom/scale/block_moves.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom_internal/thread_count_exchange.h"
 #include "support/lidar_scans.h"
 #include "support/map_equality.h"
 
@@ -38,8 +40,8 @@ void onThreads(int ranks, const std::function<void(int)>& rank) {
 ndtom::MapOptions clampingOptions(ndtom::RayMode mode) {
   ndtom::MapOptions o;
   o.resolution = 0.4;
-  o.insertion.max_range = 30;
-  o.insertion.ray_mode = mode;
+  o.scan.max_range = 30;
+  o.scan.ray_mode = mode;
   o.occupancy.logodds_max = 1.0;  // clamps after a few scans: a merge of maps would not
   return o;
 }
@@ -57,7 +59,7 @@ TEST(SharedRays, ProcessesMapsTogetherAreTheSerialMapBitForBit) {
       for (const int threads : {1, 2}) {
         SCOPED_TRACE(testing::Message() << "mode " << int(mode) << ", " << ranks << " ranks, "
                                         << threads << " threads");
-        ndtom::InsertOptions insert = o.insertion;
+        ndtom::ScanOptions insert = o.scan;
         insert.threads = threads;
         ndtom::ThreadCountExchange hub(ranks);
         std::vector<NdtMap> parts(static_cast<size_t>(ranks), NdtMap(o));
@@ -66,8 +68,8 @@ TEST(SharedRays, ProcessesMapsTogetherAreTheSerialMapBitForBit) {
           const TileOwnership owned{2, rank, ranks};
           for (const auto& s : scans)
             visits[size_t(rank)] +=
-                parts[size_t(rank)]
-                    .insertScanPart(s.points, s.origin, insert, owned, hub.port(rank))
+                
+                    ndtom::insertScanPart(parts[size_t(rank)], s.points, s.origin, insert, owned, hub.port(rank))
                     .voxel_visits;
         });
         size_t all_visits = 0;
@@ -82,7 +84,7 @@ TEST(SharedRays, ProcessesMapsTogetherAreTheSerialMapBitForBit) {
             EXPECT_LT(visits[size_t(rank)], serial_visits * 3 / 4);
           }
           all_visits += visits[size_t(rank)];
-          together.absorbBlocks(std::move(parts[size_t(rank)]));
+          ndtom::absorbBlocks(together, std::move(parts[size_t(rank)]));
         }
         EXPECT_EQ(all_visits, serial_visits);
         ndtom::testing::expectBitIdentical(serial, together);
@@ -105,22 +107,22 @@ TEST(SharedRays, AScanOneProcessFailsLeavesEveryProcessMapAsItWas) {
   onThreads(kRanks, [&](int rank) {
     const TileOwnership owned{2, rank, kRanks};
     NdtMap& part = parts[size_t(rank)];
-    part.insertScanPart(scans[0].points, scans[0].origin, o.insertion, owned, hub.port(rank));
+    ndtom::insertScanPart(part, scans[0].points, scans[0].origin, o.scan, owned, hub.port(rank));
     const std::vector<uint8_t> before = ndtom::encodeMap(part);
-    ndtom::InsertOptions starved = o.insertion;
+    ndtom::ScanOptions starved = o.scan;
     if (rank == 1) starved.memory_budget = uint64_t(1) << 20;  // the least: no room for a scan
     try {
-      part.insertScanPart(scans[1].points, scans[1].origin, starved, owned, hub.port(rank));
+      ndtom::insertScanPart(part, scans[1].points, scans[1].origin, starved, owned, hub.port(rank));
     } catch (const std::exception& e) {
       failures[size_t(rank)] = e.what();
     }
     EXPECT_EQ(ndtom::encodeMap(part), before) << "rank " << rank;
-    part.insertScanPart(scans[2].points, scans[2].origin, o.insertion, owned, hub.port(rank));
+    ndtom::insertScanPart(part, scans[2].points, scans[2].origin, o.scan, owned, hub.port(rank));
   });
   EXPECT_NE(failures[1].find("budget"), std::string::npos) << failures[1];
   EXPECT_NE(failures[0].find("another process"), std::string::npos) << failures[0];
   NdtMap together(o);
-  for (NdtMap& part : parts) together.absorbBlocks(std::move(part));
+  for (NdtMap& part : parts) ndtom::absorbBlocks(together, std::move(part));
   EXPECT_EQ(ndtom::encodeMap(serial), ndtom::encodeMap(together));
 }
 
@@ -154,17 +156,17 @@ TEST(SharedRays, RefusesAMalformedMessageAndKeepsItsMap) {
            {theirs, 0, 0, 1, 5, 1}}) {  // a block of another process's tile
     NdtMap part(o);
     ForgingExchange honest;
-    part.insertScanPart(scans[0].points, scans[0].origin, o.insertion, owned, honest);
+    ndtom::insertScanPart(part, scans[0].points, scans[0].origin, o.scan, owned, honest);
     const std::vector<uint8_t> before = ndtom::encodeMap(part);
     ForgingExchange forging;
     forging.forged = forged;
-    EXPECT_THROW(part.insertScanPart(scans[1].points, scans[1].origin, o.insertion, owned, forging),
+    EXPECT_THROW(ndtom::insertScanPart(part, scans[1].points, scans[1].origin, o.scan, owned, forging),
                  std::runtime_error);
     EXPECT_EQ(ndtom::encodeMap(part), before);
     // The same scan with a well-formed message of the same block is taken.
     forging.forged = {mine, 0, 0, 1, 5, 1};
     EXPECT_NO_THROW(
-        part.insertScanPart(scans[1].points, scans[1].origin, o.insertion, owned, forging));
+        ndtom::insertScanPart(part, scans[1].points, scans[1].origin, o.scan, owned, forging));
     EXPECT_NE(ndtom::encodeMap(part), before);
   }
 }

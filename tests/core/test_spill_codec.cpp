@@ -7,9 +7,9 @@
 #include <random>
 #include <string>
 
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_internal/crc32.h"
-#include "spill_codec.h"
+#include "scale/spill_codec.h"
 #include "support/map_equality.h"
 
 namespace {
@@ -22,7 +22,7 @@ using Eigen::Vector3d;
 NdtMap scannedMap(double resolution, int scans, int points) {
   ndtom::MapOptions o;
   o.resolution = resolution;
-  o.insertion.max_range = 8.0;
+  o.scan.max_range = 8.0;
   NdtMap map(o);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-4, 4);

@@ -10,9 +10,9 @@
 #include <iterator>
 #include <set>
 
-#include "ndtom/block_grid.h"
+#include "ndtom/map/block_grid.h"
 #include "ndtom_internal/crc32.h"
-#include "ndtom/tiled_map.h"
+#include "ndtom/files/tiled_map_io.h"
 #include "support/lidar_scans.h"
 #include "support/map_equality.h"
 
@@ -35,7 +35,7 @@ struct TempFile {
 NdtMap lidarMap() {
   ndtom::MapOptions o;
   o.resolution = 0.2;
-  o.insertion.max_range = 30;
+  o.scan.max_range = 30;
   NdtMap map(o);
   for (const auto& s : ndtom::testing::lidarScansInWorld(3)) map.insertScan(s.points, s.origin);
   return map;

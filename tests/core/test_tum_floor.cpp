@@ -11,7 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 
 using Eigen::Vector3d;
 

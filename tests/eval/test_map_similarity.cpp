@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 #include "ndtom_eval/batch_ndt.h"
 #include "ndtom_eval/map_similarity.h"
 

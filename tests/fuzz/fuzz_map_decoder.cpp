@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_internal/crc32.h"
 
 namespace {

@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "ndtom/map_io.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace {
 
@@ -51,10 +51,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const double resolutions[] = {0.05, 0.125, 0.25, 1.0};
   options.resolution = resolutions[in.byte() % 4];
   options.occupancy.enabled = in.byte() % 4 != 0;
-  options.insertion.ray_mode =
+  options.scan.ray_mode =
       in.byte() % 2 ? ndtom::RayMode::PerHitCell : ndtom::RayMode::PerPoint;
-  options.insertion.threads = in.byte() % 4 == 0 ? 2 : 1;
-  options.insertion.max_range = in.byte() % 2 ? 4.0 : INFINITY;
+  options.scan.threads = in.byte() % 4 == 0 ? 2 : 1;
+  options.scan.max_range = in.byte() % 2 ? 4.0 : INFINITY;
   ndtom::NdtMap map(options);
 
   for (int scan = 0; scan < 3 && !in.empty(); ++scan) {

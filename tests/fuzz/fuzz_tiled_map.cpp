@@ -12,8 +12,8 @@
 #include <fstream>
 #include <string>
 
-#include "ndtom/map_io.h"
-#include "ndtom/tiled_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/files/tiled_map_io.h"
 #include "ndtom_internal/crc32.h"
 
 namespace {

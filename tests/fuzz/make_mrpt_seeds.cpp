@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 
@@ -83,8 +83,8 @@ int main(int argc, char** argv) {
   // options.
   CNDTOccupancyMap recursive(1.5);
   recursive.insertionOptions.occupancy.enabled = false;
-  recursive.insertionOptions.insertion.ray_mode = ndtom::RayMode::PerHitCell;
-  recursive.insertionOptions.insertion.threads = 2;
+  recursive.insertionOptions.scan.ray_mode = ndtom::RayMode::PerHitCell;
+  recursive.insertionOptions.scan.threads = 2;
   recursive.likelihoodOptions.search_neighbours = false;
   recursive.likelihoodOptions.decimation = 3;
   recursive.likelihoodOptions.likelihood_method = CNDTOccupancyMap::TLikelihoodMethod::NdtMcl;
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
   write(out + "lidar_recursive", serialize(recursive));
 
   CNDTOccupancyMap empty(0.25);
-  empty.insertionOptions.insertion.max_range = 30.0;
+  empty.insertionOptions.scan.max_range = 30.0;
   write(out + "empty", serialize(empty));
 
   // Damaged copies of the first: each must be rejected with an exception.

@@ -8,8 +8,8 @@
 #include <iomanip>
 
 #include "mapper/mapper_run.h"
-#include "ndtom/map_io.h"
-#include "ndtom/tiled_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/files/tiled_map_io.h"
 #include "ndtom_io/pose_file.h"
 #include "support/special_files.h"
 

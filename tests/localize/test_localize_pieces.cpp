@@ -10,7 +10,7 @@
 #include "localize_options.h"
 #include "mapper/mapper_run.h"
 #include "motion_prediction.h"
-#include "ndtom/tiled_map.h"
+#include "ndtom/files/tiled_map_io.h"
 #include "ndtom_apps/option_values.h"
 #include "region_map.h"
 

@@ -9,8 +9,8 @@
 
 #include "city_route.h"
 #include "mapper/mapper_run.h"
-#include "ndtom/map_io.h"
-#include "ndtom/tiled_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/files/tiled_map_io.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 #include "simulated_lidar.h"

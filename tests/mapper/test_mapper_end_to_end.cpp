@@ -15,7 +15,7 @@
 
 #include "mapper_run.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 #include "ndtom_io/tum_rgbd.h"

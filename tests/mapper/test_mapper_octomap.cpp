@@ -7,8 +7,8 @@
 #include <tuple>
 
 #include "mapper_run.h"
-#include "ndtom/map_io.h"
-#include "ndtom/map_queries.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/map/map_queries.h"
 #include "octomap_export.h"
 
 using namespace mapper_test;

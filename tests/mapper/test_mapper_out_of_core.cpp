@@ -3,9 +3,10 @@
 // plus the tiles one scan reaches (computed here from the scans and the in-memory map).
 #include <algorithm>
 
+#include "ndtom/scale/block_moves.h"
 #include "mapper_run.h"
-#include "ndtom/map_io.h"
-#include "ndtom/tiled_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/files/tiled_map_io.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 
@@ -41,12 +42,12 @@ std::vector<Eigen::AlignedBox3d> scanBoxes(const fs::path& city) {
 
 // The memory of the map's tiles that meet any of `boxes`, lent out of the map and back.
 size_t tilesBytes(ndtom::NdtMap& map, const std::vector<Eigen::AlignedBox3d>& boxes) {
-  ndtom::NdtMap part = map.extractBlocks([&](const ndtom::CellIndex& block) {
+  ndtom::NdtMap part = ndtom::extractBlocks(map, [&](const ndtom::CellIndex& block) {
     const auto tile = ndtom::tileBoxOf(ndtom::tileOfBlock(block, kTileBlocks), kTileBlocks, kResolution);
     return std::any_of(boxes.begin(), boxes.end(), [&](const auto& b) { return tile.intersects(b); });
   });
   const size_t bytes = part.memoryBytes();
-  map.absorbBlocks(std::move(part));
+  ndtom::absorbBlocks(map, std::move(part));
   return bytes;
 }
 

@@ -49,11 +49,11 @@ TEST(InsertionSettings, FileThenCommandLine) {
   in_file.resolution = 0.35;
   in_file.occupancy.p_hit = 0.7;
   in_file.occupancy.logodds_min = -3;
-  in_file.insertion.max_range = 25;
-  in_file.insertion.ray_mode = ndtom::RayMode::PerHitCell;
+  in_file.scan.max_range = 25;
+  in_file.scan.ray_mode = ndtom::RayMode::PerHitCell;
   in_file.decimation = 3;
   in_file.occupancy.enabled = false;
-  in_file.insertion.threads = 3;
+  in_file.scan.threads = 3;
   mrpt::config::CConfigFileMemory memory;
   in_file.saveToConfigFile(memory, "Mine");
   std::ofstream(dir / "map.ini") << memory.getContent();
@@ -66,10 +66,10 @@ TEST(InsertionSettings, FileThenCommandLine) {
   settings.overrides = {
       {"p_hit", "0.65"}, {"max_range", "inf"}, {"ray_mode", "PerPoint"}, {"threads", "2"}};
   InsertionOptions expected = in_file;
-  expected.insertion.threads = 2;
+  expected.scan.threads = 2;
   expected.occupancy.p_hit = 0.65;
-  expected.insertion.max_range = std::numeric_limits<double>::infinity();
-  expected.insertion.ray_mode = ndtom::RayMode::PerPoint;
+  expected.scan.max_range = std::numeric_limits<double>::infinity();
+  expected.scan.ray_mode = ndtom::RayMode::PerPoint;
   EXPECT_TRUE(resolveInsertionOptions(settings) == expected);
 
   // Every key --help lists is one the plugin saves, and the other way round.

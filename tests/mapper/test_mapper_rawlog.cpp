@@ -13,7 +13,7 @@
 
 #include "mapper_run.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_io/pose_file.h"
 
 using namespace mapper_test;

@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <iostream>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace ndtom::testing {
 

@@ -27,7 +27,7 @@ struct Fixture {
 void buildMap(Fixture& f, int left_out) {
   f.poses = ndtom::testing::balmPoses();
   ASSERT_EQ(f.poses.size(), 10u);
-  f.map.insertionOptions.insertion.max_range = 30.0;
+  f.map.insertionOptions.scan.max_range = 30.0;
   for (int i = 0; i < 10; ++i) {
     if (i == left_out) continue;
     mrpt::obs::CObservationPointCloud obs;

@@ -93,14 +93,14 @@ TEST(IniOptions, ShortNameCreatesTheMapWithTheTextsOptions) {
   EXPECT_EQ(in.occupancy.p_miss, 0.45);
   EXPECT_EQ(in.occupancy.logodds_min, -3.25);
   EXPECT_EQ(in.occupancy.logodds_max, 4.5);
-  EXPECT_EQ(in.insertion.min_range, 0.3);
-  EXPECT_EQ(in.insertion.max_range, 25.0);
-  EXPECT_EQ(in.insertion.ray_mode, ndtom::RayMode::PerHitCell);
+  EXPECT_EQ(in.scan.min_range, 0.3);
+  EXPECT_EQ(in.scan.max_range, 25.0);
+  EXPECT_EQ(in.scan.ray_mode, ndtom::RayMode::PerHitCell);
   EXPECT_EQ(in.decimation, 3u);
   EXPECT_EQ(in.decimation_3d_range, 4u);
   EXPECT_EQ(in.regularization.min_eigen_ratio, 0.02);
   EXPECT_EQ(in.regularization.min_eigen_abs, 1e-5);
-  EXPECT_EQ(in.insertion.threads, 2);
+  EXPECT_EQ(in.scan.threads, 2);
 
   const auto& lk = map->likelihoodOptions;
   EXPECT_EQ(lk.decimation, 7u);
@@ -119,8 +119,8 @@ TEST(IniOptions, ShortNameCreatesTheMapWithTheTextsOptions) {
   // The core map already runs with these options.
   EXPECT_EQ(map->ndtMap().options().resolution, 0.35);
   EXPECT_FALSE(map->ndtMap().options().occupancy.enabled);
-  EXPECT_EQ(map->ndtMap().options().insertion.ray_mode, ndtom::RayMode::PerHitCell);
-  EXPECT_EQ(map->ndtMap().options().insertion.threads, 2);
+  EXPECT_EQ(map->ndtMap().options().scan.ray_mode, ndtom::RayMode::PerHitCell);
+  EXPECT_EQ(map->ndtMap().options().scan.threads, 2);
 }
 
 TEST(IniOptions, DefaultsWhenSectionsAreMissing) {
@@ -156,7 +156,7 @@ TEST(IniOptions, SaveLoadRoundTripIsExact) {
   lik.loadFromConfigFile(text, "lik");
   EXPECT_TRUE(ins == map->insertionOptions) << saved.getContent();
   EXPECT_TRUE(lik == map->likelihoodOptions) << saved.getContent();
-  EXPECT_EQ(ins.insertion.threads, 2) << saved.getContent();
+  EXPECT_EQ(ins.scan.threads, 2) << saved.getContent();
 
   // Defaults too (max_range 100, the machine's memory budget).
   mrpt::config::CConfigFileMemory defaults;
@@ -186,8 +186,8 @@ TEST(IniOptions, DumpListsEveryOptionWithAComment) {
 }
 
 TEST(IniOptions, RayModeByNumberToo) {
-  EXPECT_EQ(loadInsertion("ray_mode = 1").insertion.ray_mode, ndtom::RayMode::PerHitCell);
-  EXPECT_EQ(loadInsertion("ray_mode = 0").insertion.ray_mode, ndtom::RayMode::PerPoint);
+  EXPECT_EQ(loadInsertion("ray_mode = 1").scan.ray_mode, ndtom::RayMode::PerHitCell);
+  EXPECT_EQ(loadInsertion("ray_mode = 0").scan.ray_mode, ndtom::RayMode::PerPoint);
 }
 
 TEST(IniOptions, LikelihoodMethodByNameOrNumber) {
@@ -254,11 +254,11 @@ TEST(IniOptions, BadValuesFailAtLoadNamingTheOption) {
 }
 
 TEST(IniOptions, ThreadsMustBeAnIntegerInTheCoresRange) {
-  EXPECT_EQ(loadInsertion("").insertion.threads, 1);
-  EXPECT_EQ(loadInsertion("threads = 256").insertion.threads, 256);
+  EXPECT_EQ(loadInsertion("").scan.threads, 1);
+  EXPECT_EQ(loadInsertion("threads = 256").scan.threads, 256);
   // MRPT keeps "#" and ";" comments in the value (it strips only "//").
-  EXPECT_EQ(loadInsertion("threads = 4   # four").insertion.threads, 4);
-  EXPECT_EQ(loadInsertion("threads = 3 ; three").insertion.threads, 3);
+  EXPECT_EQ(loadInsertion("threads = 4   # four").scan.threads, 4);
+  EXPECT_EQ(loadInsertion("threads = 3 ; three").scan.threads, 3);
   // MRPT's read_int would take the last three as 2, 1 and 2.
   for (const std::string value :
        {"0", "-3", "257", "100000", "4294967298", "1e3", "2.5", "two", "2 threads"}) {
@@ -270,7 +270,7 @@ TEST(IniOptions, ThreadsMustBeAnIntegerInTheCoresRange) {
             std::string::npos);
   // Set in code, the value is checked at the next insertion, which then changes nothing.
   CNDTOccupancyMap map(0.5);
-  map.insertionOptions.insertion.threads = 0;
+  map.insertionOptions.scan.threads = 0;
   const std::string msg = errorOf([&] { map.insertPoints({{2, 0, 0}}, {0, 0, 0}); });
   EXPECT_NE(msg.find("threads = 0"), std::string::npos) << msg;
   EXPECT_TRUE(map.isEmpty());
@@ -280,7 +280,7 @@ TEST(IniOptions, ThreadsChangeWithoutRebuildingTheMap) {
   CNDTOccupancyMap map(0.5);
   map.insertPoints({{2, 0, 0}, {2, 0.05, 0}, {2, 0.1, 0.05}}, {0, 0, 0});
   const auto lookup = map.gaussianLookup();
-  map.insertionOptions.insertion.threads = 2;
+  map.insertionOptions.scan.threads = 2;
   map.insertPoints({}, {0, 0, 0});  // no points: only the options are applied
   EXPECT_EQ(map.gaussianLookup(), lookup) << "the map was rebuilt";
   map.insertionOptions.occupancy.logodds_max = 3.0;  // a real change does rebuild it

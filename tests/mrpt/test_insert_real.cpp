@@ -172,10 +172,10 @@ TEST(InsertReal, TwoThreadsBuildTheSameMapAsOne) {
   for (const auto mode : {ndtom::RayMode::PerPoint, ndtom::RayMode::PerHitCell}) {
     CNDTOccupancyMap one(0.2), two(0.2);
     for (CNDTOccupancyMap* map : {&one, &two}) {
-      map->insertionOptions.insertion.max_range = 30.0;
-      map->insertionOptions.insertion.ray_mode = mode;
+      map->insertionOptions.scan.max_range = 30.0;
+      map->insertionOptions.scan.ray_mode = mode;
     }
-    two.insertionOptions.insertion.threads = 2;
+    two.insertionOptions.scan.threads = 2;
     for (size_t i = 0; i < scans.size(); ++i) {
       ASSERT_TRUE(one.insertObservation(scans[i], poses[i]));
       ASSERT_TRUE(two.insertObservation(scans[i], poses[i]));
@@ -183,7 +183,7 @@ TEST(InsertReal, TwoThreadsBuildTheSameMapAsOne) {
     ASSERT_GT(one.ndtMap().numGaussians(), 5000u) << ndtom::toString(mode);
     EXPECT_GT(one.ndtMap().numCells(), 5 * one.ndtMap().numGaussians()) << "free space traced";
     // Every cell, bit for bit: the whole archive, once the option itself agrees.
-    two.insertionOptions.insertion.threads = 1;
+    two.insertionOptions.scan.threads = 1;
     EXPECT_TRUE(archiveBytes(one) == archiveBytes(two)) << ndtom::toString(mode);
   }
 }
@@ -224,8 +224,8 @@ TEST(InsertReal, ScanOverTheMemoryBudgetIsRefusedAndTheMapKept) {
     return bytes;
   };
   const auto before = cells(map);
-  map.insertionOptions.insertion.max_range = std::numeric_limits<double>::infinity();
-  map.insertionOptions.insertion.memory_budget = 64000000;  // bytes
+  map.insertionOptions.scan.max_range = std::numeric_limits<double>::infinity();
+  map.insertionOptions.scan.memory_budget = 64000000;  // bytes
   try {
     map.insertObservation(scan, CPose3D());
     FAIL() << "accepted";
@@ -234,7 +234,7 @@ TEST(InsertReal, ScanOverTheMemoryBudgetIsRefusedAndTheMapKept) {
     EXPECT_NE(std::string(e.what()).find("(memory_budget)"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(cells(map) == before) << "the refused scan changed the map";
-  map.insertionOptions.insertion.max_range = ndtom::kDefaultMaxRange;
+  map.insertionOptions.scan.max_range = ndtom::kDefaultMaxRange;
   EXPECT_TRUE(map.insertObservation(scan, CPose3D()));  // truncated at 100 m: 500 cells a ray
   EXPECT_GT(map.lastInsertionReport().truncated, 300u);
 }

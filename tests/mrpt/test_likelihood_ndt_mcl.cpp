@@ -54,7 +54,7 @@ std::vector<CPose3D> posesOf(const std::string& folder) {
 // A 0.2 m map as the filter's .ini makes it (rays cut at 30 m), NdtMcl likelihood.
 CNDTOccupancyMap ndtMclMap() {
   CNDTOccupancyMap map(0.2);
-  map.insertionOptions.insertion.max_range = 30.0;
+  map.insertionOptions.scan.max_range = 30.0;
   map.likelihoodOptions.likelihood_method = CNDTOccupancyMap::TLikelihoodMethod::NdtMcl;
   map.likelihoodOptions.max_range = 30.0;
   return map;

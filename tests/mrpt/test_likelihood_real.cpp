@@ -106,7 +106,7 @@ TEST(LikelihoodReal, TrueLidarPoseBeatsEveryOffset) {
 
   for (const int held_out : {1, 5, 8}) {
     CNDTOccupancyMap map(0.2);
-    map.insertionOptions.insertion.max_range = 30.0;
+    map.insertionOptions.scan.max_range = 30.0;
     for (int i = 0; i < 10; ++i)
       if (i != held_out) {
         ASSERT_TRUE(map.insertObservation(scans[i], poses[i]));
@@ -132,7 +132,7 @@ TEST(LikelihoodReal, TrueTumPoseBeatsConstrainedOffsets) {
   for (const size_t held_out : {size_t(2), size_t(5), size_t(8)}) {
     CNDTOccupancyMap map(0.1);
     map.insertionOptions.decimation_3d_range = 2;
-    map.insertionOptions.insertion.max_range = 6.0;  // Kinect depth is poor beyond
+    map.insertionOptions.scan.max_range = 6.0;  // Kinect depth is poor beyond
     for (size_t i = 0; i < frames.size(); ++i)
       if (i != held_out) map.insertObservation(*frames[i].obs, frames[i].pose);
     ASSERT_GT(map.ndtMap().numGaussians(), 2000u);

@@ -207,7 +207,7 @@ TEST(MapApi, VoxelsAgreeWithMrptsOccupancyGrid3d) {
   CNDTOccupancyMap ndt(0.2);
   ndt.insertionOptions.occupancy.p_hit = 0.865;
   ndt.insertionOptions.occupancy.p_miss = 0.4;
-  ndt.insertionOptions.insertion.max_range =
+  ndt.insertionOptions.scan.max_range =
       std::numeric_limits<double>::infinity();  // MRPT: no limit
   for (const auto& f : frames) ndt.insertObservation(*f.scan, f.pose);
   const mrpt::math::TBoundingBox box = ndt.boundingBox();

@@ -33,7 +33,7 @@
 #include <thread>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_io/pose_file.h"
 
 namespace fs = std::filesystem;

@@ -45,7 +45,7 @@ TEST(NdtRegistrationMrpt, AlignsARealLidarScanThroughTheBaseClass) {
   const auto poses = ndtom::testing::balmPoses();
   const int k = 5;
   CNDTOccupancyMap map(0.2);
-  map.insertionOptions.insertion.max_range = 30;
+  map.insertionOptions.scan.max_range = 30;
   for (int i = 0; i < 10; ++i) {
     if (i == k) continue;
     mrpt::obs::CObservationPointCloud obs;

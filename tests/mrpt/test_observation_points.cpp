@@ -9,7 +9,7 @@
 #include <mrpt/obs/CObservationPointCloud.h>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 
 using Eigen::Vector3d;
 using mrpt::poses::CPose3D;

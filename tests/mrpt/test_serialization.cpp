@@ -14,7 +14,7 @@
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 #include "mrpt_ndtom/encoded_archive.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 
 using Eigen::Vector3d;
 using mrpt_ndtom::CNDTOccupancyMap;

@@ -15,7 +15,7 @@
 #include <random>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 
 using Eigen::Vector3d;
 using mrpt_ndtom::CNDTOccupancyMap;

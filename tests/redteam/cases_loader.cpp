@@ -11,7 +11,7 @@
 
 #include "cases.h"
 #include "hostile_files.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_internal/crc32.h"
 #include "support/ndtom_file_builder.h"
 

@@ -14,7 +14,7 @@
 #include <stdexcept>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_internal/crc32.h"
 
 namespace redteam {

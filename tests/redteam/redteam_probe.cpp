@@ -17,7 +17,7 @@
 #include <string>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
@@ -82,7 +82,7 @@ int run(int argc, char** argv) {
   } else if (command == "writable-insert" && argc == 7) {
     ndtom::MapOptions o;
     o.resolution = std::atof(argv[2]);
-    o.insertion.max_range = 10 * o.resolution;
+    o.scan.max_range = 10 * o.resolution;
     ndtom::NdtMap map(o);
     const Eigen::Vector3d p(std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5]));
     const double step = 5 * o.resolution;

@@ -1,4 +1,4 @@
-// Global localization without an initial pose: the floor of a scan against a known plane,
+// Global localization without an initial pose: the ground of a scan against a known plane,
 // a held-out real lidar scan found in a map of the others (shipped BALM subset), a scan of
 // another place reported "not found", and the local search around a wrong prediction.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 #include <random>
 
 #include "core/synthetic_room.h"
-#include "ndtom/global_localization.h"
+#include "ndtom/localization/global_localization.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 
@@ -41,7 +41,7 @@ struct Balm {
   NdtMap mapWithout(int left_out) const {
     MapOptions o;
     o.resolution = 0.2;
-    o.insertion.max_range = 30;
+    o.scan.max_range = 30;
     NdtMap map(o);
     for (int i = 0; i < 10; ++i) {
       if (i == left_out) continue;
@@ -60,8 +60,8 @@ const Balm& balm() {
 
 }  // namespace
 
-TEST(GlobalLocalization, FloorOfATiltedScanGivesUpAndHeight) {
-  // A floor 1.4 m below a sensor tilted 15°, plus walls and clutter: RANSAC must take the floor.
+TEST(GlobalLocalization, GroundOfATiltedScanGivesUpAndHeight) {
+  // A ground 1.4 m below a sensor tilted 15°, plus walls and clutter: RANSAC must take the ground.
   const Isometry3d sensor = [] {
     Isometry3d p = Isometry3d::Identity();
     p.linear() = Eigen::AngleAxisd(15 * kDeg, Vector3d(1, 2, 0).normalized()).toRotationMatrix();
@@ -71,16 +71,16 @@ TEST(GlobalLocalization, FloorOfATiltedScanGivesUpAndHeight) {
   const auto world = room::sampleRoom(30000, 5, 0.005);
   std::vector<Vector3d> scan;
   for (const Vector3d& p : world) scan.push_back(sensor.inverse() * p);
-  const GravityGuess g = findFloor(scan, 45);
+  const GravityGuess g = findGround(scan, 45);
   ASSERT_TRUE(g.found);
   const Vector3d true_up = sensor.linear().transpose() * Vector3d::UnitZ();
   EXPECT_LT(std::acos(std::min(1.0, g.up.dot(true_up))) / kDeg, 0.5);
   EXPECT_NEAR(g.height, 1.4, 0.01);
-  EXPECT_GT(g.inliers, 4000u);  // 2/7 of the 15,000 points it keeps (every second) are floor
-  // No floor within the allowed tilt: nothing found.
+  EXPECT_GT(g.inliers, 4000u);  // 2/7 of the 15,000 points it keeps (every second) are ground
+  // No ground within the allowed tilt: nothing found.
   std::vector<Vector3d> wall;
   for (int i = 0; i < 1000; ++i) wall.emplace_back(2.0, 0.01 * i - 5, 0.003 * i - 1.5);
-  EXPECT_FALSE(findFloor(wall, 45).found);
+  EXPECT_FALSE(findGround(wall, 45).found);
 }
 
 TEST(GlobalLocalization, FindsAHeldOutRealScanWithoutAGuess) {
@@ -101,7 +101,7 @@ TEST(GlobalLocalization, FindsAHeldOutRealScanWithoutAGuess) {
 TEST(GlobalLocalization, AScanOfAnotherPlaceIsNotFound) {
   const Balm& b = balm();
   const NdtMap map = b.mapWithout(-1);
-  // The synthetic room seen from 1.5 m: a floor, but walls the campus does not have.
+  // The synthetic room seen from 1.5 m: a ground, but walls the campus does not have.
   std::vector<Vector3d> room_scan;
   for (const Vector3d& p : room::sampleRoom(40000, 3)) room_scan.push_back(p - room::kRoomSensor);
   GlobalLocalizer localizer(GlobalSearchOptions{}, RegistrationOptions{});
@@ -141,7 +141,7 @@ TEST(GlobalLocalization, BadOptionsAreRejected) {
   GlobalLocalizer localizer(GlobalSearchOptions{}, RegistrationOptions{});
   const GlobalLocalizationResult empty = localizer.localize(NdtMap(), balm().scans[0]);
   EXPECT_FALSE(empty.found);
-  EXPECT_NE(empty.failure.find("no floor"), std::string::npos) << empty.failure;
+  EXPECT_NE(empty.failure.find("no ground"), std::string::npos) << empty.failure;
   EXPECT_THROW(localizer.localize(room::roomMap(0.2, 20000), {Vector3d(NAN, 0, 0)}),
                std::invalid_argument);
 }

@@ -8,7 +8,7 @@
 #include <random>
 
 #include "core/synthetic_room.h"
-#include "ndtom/registration.h"
+#include "ndtom/registration/registration.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 
@@ -89,7 +89,7 @@ struct RealCase {
   static MapOptions mapOptions() {
     MapOptions o;
     o.resolution = 0.2;
-    o.insertion.max_range = 30;
+    o.scan.max_range = 30;
     return o;
   }
 };

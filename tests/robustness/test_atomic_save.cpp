@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <random>
 
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 
 using Eigen::Vector3d;
 

@@ -8,10 +8,10 @@
 #include <random>
 #include <thread>
 
-#include "ndtom/gaussian_lookup.h"
-#include "ndtom/map_io.h"
-#include "ndtom/ndt_likelihood.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/matching/gaussian_lookup.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/matching/ndt_likelihood.h"
+#include "ndtom/map/ndt_map.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 
@@ -48,7 +48,7 @@ TEST(ConcurrentQueries, ConstQueriesFromManyThreadsAgreeAndDoNotRace) {
   const auto poses = ndtom::io::readPoseFile(dir + "poses.txt");
   ndtom::MapOptions o;
   o.resolution = 0.5;
-  o.insertion.max_range = 30;
+  o.scan.max_range = 30;
   ndtom::NdtMap map(o);
   std::vector<Vector3d> probes;
   for (int i = 0; i < 2; ++i) {

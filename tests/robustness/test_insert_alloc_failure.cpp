@@ -7,8 +7,8 @@
 #include <new>
 #include <random>
 
-#include "ndtom/map_io.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace {
 // Counts down allocations while armed; the one that reaches zero throws std::bad_alloc.
@@ -54,8 +54,8 @@ TEST(InsertAllocationFailure, MapIsUnchangedWhateverAllocationFails) {
     for (const int threads : {1, 2}) {
       ndtom::MapOptions o;
       o.resolution = 0.25;
-      o.insertion.ray_mode = mode;
-      o.insertion.threads = threads;
+      o.scan.ray_mode = mode;
+      o.scan.threads = threads;
       ndtom::NdtMap map(o);
       std::mt19937 rng(3);
       map.insertScan(scanOfARoom(rng, 0), Vector3d(0, 0, 0));

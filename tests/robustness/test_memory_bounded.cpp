@@ -3,7 +3,7 @@
 // pass left them (within 1 %).
 #include <gtest/gtest.h>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 
@@ -18,8 +18,8 @@ TEST(MemoryBounded, RepeatedPassesOverTheSameScansDoNotGrowTheMap) {
   }
   ndtom::MapOptions o;
   o.resolution = 0.4;
-  o.insertion.max_range = 30;
-  o.insertion.ray_mode = ndtom::RayMode::PerHitCell;
+  o.scan.max_range = 30;
+  o.scan.ray_mode = ndtom::RayMode::PerHitCell;
   ndtom::NdtMap map(o);
   size_t first_cells = 0, first_bytes = 0;
   for (int pass = 0; pass < 5; ++pass) {

@@ -1,5 +1,5 @@
 // The memory budget (issue #17, class 2): insertion refuses a scan that would take the map
-// and its working memory over InsertOptions::memory_budget, before the blocks are allocated,
+// and its working memory over ScanOptions::memory_budget, before the blocks are allocated,
 // with the numbers in the message, and leaves the map as it was. Memory then follows the
 // budget, not how far apart a scan's few points are (100 points at 6 km took 2.7 GB).
 #include <gtest/gtest.h>
@@ -10,8 +10,8 @@
 #include <cmath>
 #include <random>
 
-#include "ndtom/map_io.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/map/ndt_map.h"
 #include "support/lidar_scans.h"
 
 using Eigen::Vector3d;
@@ -37,8 +37,8 @@ std::vector<Vector3d> room(unsigned seed, int n = 2000) {
   return pts;
 }
 
-ndtom::InsertOptions unlimitedRange(uint64_t budget, int threads = 1) {
-  ndtom::InsertOptions o;
+ndtom::ScanOptions unlimitedRange(uint64_t budget, int threads = 1) {
+  ndtom::ScanOptions o;
   o.max_range = INFINITY;
   o.memory_budget = budget;
   o.threads = threads;
@@ -47,7 +47,7 @@ ndtom::InsertOptions unlimitedRange(uint64_t budget, int threads = 1) {
 
 // The message of the MemoryBudgetError that inserting `points` throws, or "".
 std::string refusal(ndtom::NdtMap& map, const std::vector<Vector3d>& points,
-                    const ndtom::InsertOptions& o) {
+                    const ndtom::ScanOptions& o) {
   const auto before = ndtom::encodeMap(map);
   try {
     map.insertScan(points, Vector3d(0.05, 0.05, 0.05), o);
@@ -105,10 +105,10 @@ TEST(MemoryBudget, ScanWithMorePointsThanTheBudgetHolds) {
 TEST(MemoryBudget, ScansWithinTheBudgetGiveTheSameMap) {
   ndtom::MapOptions o;
   o.resolution = 0.4;
-  o.insertion.max_range = 30;
+  o.scan.max_range = 30;
   ndtom::NdtMap tight(o), loose(o);
   for (const auto& scan : ndtom::testing::lidarScansInWorld(4)) {
-    ndtom::InsertOptions in = o.insertion;
+    ndtom::ScanOptions in = o.scan;
     in.memory_budget = 80000000;
     tight.insertScan(scan.points, scan.origin, in);
     in.memory_budget = uint64_t(1) << 40;

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <functional>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace {
 
@@ -35,18 +35,18 @@ TEST(OptionLimits, AbsurdValuesAreRefusedNamingTheOption) {
   for (const double l : {0.0, -1.0, inf, nan})
     expectRejected([l](ndtom::MapOptions& o) { o.occupancy.logodds_max = l; }, "logodds_max");
   for (const double m : {-1.0, nan, inf})
-    expectRejected([m](ndtom::MapOptions& o) { o.insertion.min_range = m; }, "min_range");
+    expectRejected([m](ndtom::MapOptions& o) { o.scan.min_range = m; }, "min_range");
   for (const double m : {0.0, -5.0, nan})
-    expectRejected([m](ndtom::MapOptions& o) { o.insertion.max_range = m; }, "max_range");
+    expectRejected([m](ndtom::MapOptions& o) { o.scan.max_range = m; }, "max_range");
   expectRejected(
       [](ndtom::MapOptions& o) {
-        o.insertion.min_range = 10;
-        o.insertion.max_range = 5;
+        o.scan.min_range = 10;
+        o.scan.max_range = 5;
       },
       "max_range");
-  expectRejected([](ndtom::MapOptions& o) { o.insertion.threads = 0; }, "threads");
-  expectRejected([](ndtom::MapOptions& o) { o.insertion.memory_budget = 999999; }, "memory_budget");
-  expectRejected([](ndtom::MapOptions& o) { o.insertion.ray_mode = ndtom::RayMode(7); },
+  expectRejected([](ndtom::MapOptions& o) { o.scan.threads = 0; }, "threads");
+  expectRejected([](ndtom::MapOptions& o) { o.scan.memory_budget = 999999; }, "memory_budget");
+  expectRejected([](ndtom::MapOptions& o) { o.scan.ray_mode = ndtom::RayMode(7); },
                  "ray_mode");
   expectRejected([](ndtom::MapOptions& o) { o.regularization.min_eigen_ratio = 2; },
                  "min_eigen_ratio");

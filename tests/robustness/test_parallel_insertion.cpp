@@ -1,11 +1,11 @@
-// Multi-threaded insertion (InsertOptions::threads) splits every stage of a scan update over
+// Multi-threaded insertion (ScanOptions::threads) splits every stage of a scan update over
 // threads. On real lidar scans, any thread count must give the same map, byte for byte in the
 // file format, and the same insertion report. Also built with ThreadSanitizer (see
 // CMakeLists.txt), so a data race between the stages' threads fails the test.
 #include <gtest/gtest.h>
 
-#include "ndtom/map_io.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/map/ndt_map.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 
@@ -40,13 +40,13 @@ TEST(ParallelInsertion, AnyThreadCountGivesTheSameMapAndReports) {
   for (const auto mode : {ndtom::RayMode::PerPoint, ndtom::RayMode::PerHitCell}) {
     ndtom::MapOptions o;
     o.resolution = 0.2;
-    o.insertion.max_range = 20;  // some rays truncated
-    o.insertion.ray_mode = mode;
+    o.scan.max_range = 20;  // some rays truncated
+    o.scan.ray_mode = mode;
     std::vector<uint8_t> reference_file, reference_coarse;
     std::vector<std::string> reference_reports;
     std::vector<ndtom::CellIndex> reference_order;
     for (const int threads : {1, 2, 3}) {
-      o.insertion.threads = threads;
+      o.scan.threads = threads;
       ndtom::NdtMap map(o);
       std::vector<std::string> reports;
       for (const Scan& s : scans) reports.push_back(map.insertScan(s.points, s.origin).toString());

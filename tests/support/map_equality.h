@@ -5,7 +5,7 @@
 
 #include <cstring>
 
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace ndtom::testing {
 
@@ -22,7 +22,7 @@ inline void expectBitIdentical(const NdtMap& a, const NdtMap& b) {
                              {oa.occupancy.p_miss, ob.occupancy.p_miss},
                              {oa.occupancy.logodds_min, ob.occupancy.logodds_min},
                              {oa.occupancy.logodds_max, ob.occupancy.logodds_max},
-                             {oa.insertion.max_range, ob.insertion.max_range}})
+                             {oa.scan.max_range, ob.scan.max_range}})
     EXPECT_TRUE(sameBits(&x, &y, 8));
   EXPECT_EQ(oa.occupancy.enabled, ob.occupancy.enabled);
   size_t differ = 0;

@@ -10,9 +10,9 @@
 #include <utility>
 #include <vector>
 
-#include "ndtom/cell_index.h"
-#include "ndtom/cell_stats.h"
-#include "ndtom/options.h"
+#include "ndtom/map/cell_index.h"
+#include "ndtom/map/cell_stats.h"
+#include "ndtom/map/options.h"
 #include "ndtom_internal/crc32.h"
 
 namespace ndtom::testing {
@@ -31,9 +31,9 @@ class FileBuilder {
         {"p_miss", o.occupancy.p_miss},
         {"logodds_min", o.occupancy.logodds_min},
         {"logodds_max", o.occupancy.logodds_max},
-        {"min_range", o.insertion.min_range},
-        {"max_range", o.insertion.max_range},
-        {"ray_mode", double(int(o.insertion.ray_mode))},
+        {"min_range", o.scan.min_range},
+        {"max_range", o.scan.max_range},
+        {"ray_mode", double(int(o.scan.ray_mode))},
         {"min_eigen_ratio", o.regularization.min_eigen_ratio},
         {"min_eigen_abs", o.regularization.min_eigen_abs}};
     u32(11);

@@ -8,7 +8,7 @@
 #include <map>
 #include <vector>
 
-#include "ndtom/options.h"
+#include "ndtom/map/options.h"
 #include "support/brute_force.h"
 
 namespace ndtom::testing {
@@ -27,14 +27,14 @@ class OracleMap {
     std::map<CellIndex, std::vector<Eigen::Vector3d>> scan_points;
     // PerHitCell: the ends grouped by cell and by hit or not, one ray per group.
     std::map<std::pair<CellIndex, bool>, std::vector<Eigen::Vector3d>> groups;
-    const bool per_cell = options_.insertion.ray_mode == RayMode::PerHitCell;
+    const bool per_cell = options_.scan.ray_mode == RayMode::PerHitCell;
     for (const auto& p : points) {
       if (!p.allFinite()) continue;
       const double range = (p - origin).norm();
-      if (range == 0 || range < options_.insertion.min_range) continue;
+      if (range == 0 || range < options_.scan.min_range) continue;
       Eigen::Vector3d end = p;
-      const bool hit = range <= options_.insertion.max_range;
-      if (!hit) end = origin + (p - origin) * (options_.insertion.max_range / range);
+      const bool hit = range <= options_.scan.max_range;
+      if (!hit) end = origin + (p - origin) * (options_.scan.max_range / range);
       if (hit) {
         hits[geometry_.cellOf(p)]++;
         scan_points[geometry_.cellOf(p)].push_back(p);

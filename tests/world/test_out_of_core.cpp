@@ -8,10 +8,11 @@
 #include <fstream>
 #include <iterator>
 
+#include "ndtom/scale/block_moves.h"
 #include "city_route.h"
-#include "ndtom/map_io.h"
-#include "ndtom/out_of_core_map.h"
-#include "ndtom/tiled_map.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/scale/out_of_core_map.h"
+#include "ndtom/files/tiled_map_io.h"
 #include "simulated_lidar.h"
 #include "support/map_equality.h"
 
@@ -40,7 +41,7 @@ TEST(OutOfCoreMap, SpillsAndReloadsTilesAndBuildsTheInMemoryMap) {
 
   MapOptions options;
   options.resolution = 0.4;
-  options.insertion.max_range = 30;
+  options.scan.max_range = 30;
   NdtMap whole(options);
   std::vector<std::vector<Eigen::Vector3d>> scans;
   for (size_t i = 0; i < poses.size(); ++i) {
@@ -56,7 +57,7 @@ TEST(OutOfCoreMap, SpillsAndReloadsTilesAndBuildsTheInMemoryMap) {
   {
     OutOfCoreMap ooc(options, budget, 2, (dir / "spill").string());
     for (size_t i = 0; i < poses.size(); ++i)
-      ooc.insertScan(scans[i], poses[i].translation(), options.insertion);
+      ooc.insertScan(scans[i], poses[i].translation(), options.scan);
     const auto& s = ooc.stats();
     std::printf("map %zu B, budget %llu B, peak resident %zu B, %zu spills, %zu loads, %zu tiles out\n",
                 whole.memoryBytes(), (unsigned long long)budget, s.peak_resident_bytes, s.spills,
@@ -85,7 +86,7 @@ TEST(OutOfCoreMap, SpillsAndReloadsTilesAndBuildsTheInMemoryMap) {
 TEST(OutOfCoreMap, AScanBoxFarLargerThanTheMapIsHandledByWhatTheMapHolds) {
   MapOptions options;
   options.resolution = 0.1;
-  options.insertion.max_range = 1e6;
+  options.scan.max_range = 1e6;
   std::vector<Eigen::Vector3d> near, glitchy;
   for (int i = 0; i < 200; ++i) near.emplace_back(3.0 + 0.01 * i, -2.0 + 0.02 * i, 0.5);
   glitchy = near;
@@ -99,7 +100,7 @@ TEST(OutOfCoreMap, AScanBoxFarLargerThanTheMapIsHandledByWhatTheMapHolds) {
       const auto& points = s % 3 == 0 ? glitchy : near;
       const Eigen::Vector3d origin(0.3 * s, 0, 1.0);
       whole.insertScan(points, origin);
-      ooc.insertScan(points, origin, options.insertion);
+      ooc.insertScan(points, origin, options.scan);
     }
     ndtom::testing::expectBitIdentical(whole, ooc.assemble());
   }
@@ -113,12 +114,12 @@ TEST(OutOfCoreMap, RejectsBadSizesAndMovesBlocksBothWays) {
   map.setCell({0, 0, 0}, 1.0f, {});
   map.setCell({20, 0, 0}, -1.0f, {});
   const size_t before = map.memoryBytes();
-  NdtMap far = map.extractBlocks([](const CellIndex& b) { return b.x > 0; });
+  NdtMap far = ndtom::extractBlocks(map, [](const CellIndex& b) { return b.x > 0; });
   EXPECT_EQ(map.numCells(), 1u);
   EXPECT_EQ(far.numCells(), 1u);
   EXPECT_TRUE(far.cell({20, 0, 0}));
-  EXPECT_THROW(map.absorbBlocks(NdtMap(map)), std::invalid_argument);  // a block in both
-  map.absorbBlocks(std::move(far));
+  EXPECT_THROW(ndtom::absorbBlocks(map, NdtMap(map)), std::invalid_argument);  // a block in both
+  ndtom::absorbBlocks(map, std::move(far));
   EXPECT_EQ(map.numCells(), 2u);
   EXPECT_EQ(map.cell({20, 0, 0})->logodds, -1.0f);
   EXPECT_LE(map.memoryBytes(), before);

@@ -10,8 +10,8 @@
 #include <utility>
 
 #include "archive_checks.h"
-#include "ndtom/map_io.h"
-#include "ndtom/option_table.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/map/option_table.h"
 #include "scan_ndt_cache.h"
 
 using mrpt_ndtom::CNDTOccupancyMap;
@@ -235,7 +235,7 @@ CNDTOccupancyMap::Ptr CNDTOccupancyMap::getCoarsened(int factor) const {
   coarse->setNdtMap(m_map.coarsened(factor));
   coarse->insertionOptions.decimation = insertionOptions.decimation;
   coarse->insertionOptions.decimation_3d_range = insertionOptions.decimation_3d_range;
-  coarse->insertionOptions.insertion.threads = insertionOptions.insertion.threads;
+  coarse->insertionOptions.scan.threads = insertionOptions.scan.threads;
   return coarse;
 }
 
@@ -330,7 +330,7 @@ void CNDTOccupancyMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
       in >> size;
       // This object's budget (insertion.memory_budget is this object's too): a corrupt
       // archive cannot raise it.
-      const uint64_t budget = insertion.toMapOptions().insertion.memory_budget;
+      const uint64_t budget = insertion.toMapOptions().scan.memory_budget;
       const std::vector<uint8_t> bytes = readMapBytes(in, size, budget);
       ndtom::NdtMap map =
           ndtom::decodeMap(bytes.data(), bytes.size(), "MRPT archive (CNDTOccupancyMap)", budget);

@@ -8,7 +8,7 @@ ndtom::InsertionReport CNDTOccupancyMap::insertPoints(
   applyInsertionOptions();
   // threads and the memory budget do not change the map: taken from insertionOptions at
   // each scan (validated by applyInsertionOptions), not by rebuilding the map.
-  const ndtom::InsertOptions insert = insertionOptions.toMapOptions().insertion;
+  const ndtom::ScanOptions insert = insertionOptions.toMapOptions().scan;
   ndtom::InsertionReport report;
   try {
     report = m_map.insertScan(points_world, sensor_origin, insert);

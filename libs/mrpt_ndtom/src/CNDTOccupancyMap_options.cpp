@@ -12,8 +12,8 @@
 #include "archive_checks.h"
 #include "ini_values.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/ndt_likelihood.h"
-#include "ndtom/option_table.h"
+#include "ndtom/matching/ndt_likelihood.h"
+#include "ndtom/map/option_table.h"
 
 namespace mrpt_ndtom {
 namespace {
@@ -170,7 +170,7 @@ void CNDTOccupancyMap::TInsertionOptions::readFromStream(mrpt::serialization::CA
   uint8_t version;
   in >> version;
   TInsertionOptions read;
-  read.insertion.memory_budget = insertion.memory_budget;
+  read.scan.memory_budget = insertion.memory_budget;
   switch (version) {
     case 0:
     case 1: {
@@ -178,16 +178,16 @@ void CNDTOccupancyMap::TInsertionOptions::readFromStream(mrpt::serialization::CA
       in >> read.resolution;
       read.occupancy.enabled = detail::readBool(in, "insertionOptions.occupancy_enabled");
       in >> read.occupancy.p_hit >> read.occupancy.p_miss >> read.occupancy.logodds_min >>
-          read.occupancy.logodds_max >> read.insertion.min_range >> read.insertion.max_range >>
+          read.occupancy.logodds_max >> read.scan.min_range >> read.scan.max_range >>
           mode >> read.decimation >> read.decimation_3d_range >>
           read.regularization.min_eigen_ratio >> read.regularization.min_eigen_abs;
       if (mode != int32_t(ndtom::RayMode::PerPoint) && mode != int32_t(ndtom::RayMode::PerHitCell))
         THROW_EXCEPTION(mrpt::format("insertionOptions.ray_mode = %d: unknown ray mode", mode));
-      read.insertion.ray_mode = ndtom::RayMode(mode);
+      read.scan.ray_mode = ndtom::RayMode(mode);
       if (version >= 1) {
         int32_t threads;
         in >> threads;
-        read.insertion.threads = threads;
+        read.scan.threads = threads;
       }
     } break;
     default:

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/map_io.h"
+#include "ndtom/files/map_io.h"
 
 namespace mrpt_ndtom {
 

@@ -59,7 +59,7 @@ void CNDTRegistration::TConfigParams::loadFromConfigFile(
   o.max_free_fraction = source.read_double(section, "max_free_fraction", o.max_free_fraction);
   o.planar = source.read_bool(section, "planar", o.planar);
   o.threads = int(detail::readInteger(source, section, "threads", o.threads, 1,
-                                      ndtom::InsertOptions::kMaxThreads));
+                                      ndtom::ScanOptions::kMaxThreads));
   try {
     ndtom::validate(o);
   } catch (const std::invalid_argument& e) {

@@ -8,7 +8,7 @@
 #include <array>
 #include <cmath>
 
-#include "ndtom/map_queries.h"
+#include "ndtom/map/map_queries.h"
 
 namespace mrpt_ndtom {
 namespace {

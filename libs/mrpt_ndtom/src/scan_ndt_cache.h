@@ -22,7 +22,7 @@
 #include <mutex>
 #include <typeindex>
 
-#include "ndtom/ndt_mcl.h"
+#include "ndtom/localization/ndt_mcl.h"
 
 namespace mrpt_ndtom::detail {
 

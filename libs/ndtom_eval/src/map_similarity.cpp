@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "ndtom/eigen_floor.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/eigenvalue_floor.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace ndtom {
 

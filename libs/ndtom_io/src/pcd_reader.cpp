@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "lzf.h"
-#include "ndtom/checked_size.h"
-#include "ndtom/input_file.h"
+#include "ndtom_internal/checked_size.h"
+#include "ndtom_internal/input_file.h"
 #include "ndtom_internal/atomic_file.h"
 
 namespace ndtom::io {

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "ndtom/input_file.h"
+#include "ndtom_internal/input_file.h"
 #include "ndtom_internal/atomic_file.h"
 
 namespace ndtom::io {

@@ -8,8 +8,8 @@
 #include <optional>
 #include <sstream>
 
-#include "ndtom/checked_size.h"
-#include "ndtom/input_file.h"
+#include "ndtom_internal/checked_size.h"
+#include "ndtom_internal/input_file.h"
 #include "ndtom_io/pose_file.h"
 
 namespace ndtom::io {

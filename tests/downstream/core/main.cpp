@@ -1,7 +1,7 @@
 // Two clusters of points in two cells of a 0.5 m map: both cells must be occupied, and the
 // Gaussian of one must equal the points' batch mean and covariance. The installed evaluation
 // library scores the map against itself: a similarity of exactly 1.
-#include <ndtom/ndt_map.h>
+#include <ndtom/map/ndt_map.h>
 #include <ndtom_eval/map_similarity.h>
 
 #include <cmath>

@@ -34,10 +34,10 @@
 
 #include "mrpt_ndtom/ndt_visualization.h"
 #include "mrpt_ndtom/observation_points.h"
-#include "ndtom/gaussian_lookup.h"
-#include "ndtom/map_queries.h"
-#include "ndtom/ndt_map.h"
-#include "ndtom/ndt_mcl.h"
+#include "ndtom/matching/gaussian_lookup.h"
+#include "ndtom/map/map_queries.h"
+#include "ndtom/map/ndt_map.h"
+#include "ndtom/localization/ndt_mcl.h"
 
 namespace mrpt_ndtom {
 namespace detail {
@@ -136,7 +136,7 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
   // --- The NDT-OM itself ---------------------------------------------------------------
 
   /// The core map (its options are those in force at the last insertion, except `threads`:
-  /// insertPoints() passes insertionOptions.insertion.threads with each scan).
+  /// insertPoints() passes insertionOptions.scan.threads with each scan).
   const ndtom::NdtMap& ndtMap() const { return m_map; }
   /// Replaces the contents, e.g. with a map loaded by ndtom::loadMap(); insertionOptions take
   /// the map's resolution, occupancy and regularisation options.

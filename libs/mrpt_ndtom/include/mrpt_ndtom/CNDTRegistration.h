@@ -19,7 +19,7 @@
 
 #include <string>
 
-#include "ndtom/registration.h"
+#include "ndtom/registration/registration.h"
 
 namespace mrpt_ndtom {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "mrpt_ndtom/render_options.h"
-#include "ndtom/ndt_map.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace mrpt_ndtom {
 

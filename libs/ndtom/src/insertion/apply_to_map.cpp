@@ -1,4 +1,4 @@
-#include "apply_to_map.h"
+#include "insertion/apply_to_map.h"
 
 #include <algorithm>
 #include <atomic>
@@ -38,6 +38,12 @@ class MapUpdate {
 
  private:
   void allocate(size_t hits, size_t cells_hit);
+  // The phases of allocate():
+  void mergeCountBlocks();
+  void findMapBlocks();
+  void createNewBlocks();
+  void reserveHitStats();
+  void splitWork(size_t hits, size_t cells_hit);
   void applyFreeCounts(size_t begin, size_t end, ApplyBuffers::Part& part);
   void applyHits(const HitBlock& hit_block, ApplyBuffers::HitTarget& target,
                  ApplyBuffers::Part& part);
@@ -116,83 +122,108 @@ MapChange MapUpdate::run(InsertionReport& report) {
 // the threads' counter blocks and the hit cells' blocks (in tables[0]), the map's blocks for
 // them, and in each block room for the statistics its hit cells may gain.
 void MapUpdate::allocate(size_t hits, size_t cells_hit) {
-  const size_t tables = counts_.used;
-  ScanCounts& merged = counts_.tables[0];
-  const std::vector<HitBlock>& hit_blocks = groups_.hit_blocks;
   b_.created_blocks.clear();
   try {
-    for (size_t t = 1; t < tables; ++t)
-      for (size_t i = 0; i < counts_.tables[t].numBlocks(); ++i)
-        merged.blockAt(counts_.tables[t].blockIndex(i));
-    for (const HitBlock& h : hit_blocks) merged.blockAt(blockOf(groups_.blockCell(h)));
-    const size_t blocks = merged.numBlocks();
-    b_.other_counts.resize(blocks * (tables - 1));
-    b_.map_blocks.resize(blocks);
-    // Lookups only (nothing is created until below), a hash lookup and likely a cache miss
-    // each: split over threads.
-    const size_t lookup_threads = scan_.threadsFor(blocks, kMinBlocksPerThread);
-    scan_.pool.run(lookup_threads, [&](size_t t) {
-      const auto [begin, end] = partRange(blocks, lookup_threads, t);
-      for (size_t i = begin; i < end; ++i) {
-        const CellIndex& b = merged.blockIndex(i);
-        for (size_t k = 1; k < tables; ++k)
-          b_.other_counts[i * (tables - 1) + k - 1] = counts_.tables[k].findBlock(b);
-        b_.map_blocks[i] = grid_.find(b);
-      }
-    });
-    b_.new_blocks.clear();
-    for (size_t i = 0; i < blocks; ++i)
-      if (!b_.map_blocks[i]) b_.new_blocks.push_back(i);
-    // New blocks are created in coordinate order, not in the order the tables met them: the
-    // map's iteration order (hence e.g. coarsened()) then does not depend on how the rays
-    // were shared among threads.
-    std::sort(b_.new_blocks.begin(), b_.new_blocks.end(),
-              [&](size_t a, size_t b) { return merged.blockIndex(a) < merged.blockIndex(b); });
-    b_.created_blocks.reserve(b_.new_blocks.size());
-    for (const size_t i : b_.new_blocks) {
-      b_.map_blocks[i] = &grid_.getOrCreate(merged.blockIndex(i));
-      b_.created_blocks.push_back(merged.blockIndex(i));
-    }
-    // Exact room for the statistics each hit block's cells may gain (hit cells without
-    // any): memory follows the statistics. Each hit block on its own, split over threads.
-    b_.hit_targets.clear();  // no capacity left from a scan that failed here
-    b_.hit_targets.resize(hit_blocks.size());
-    const size_t reserve_threads = scan_.threadsFor(hit_blocks.size(), kMinBlocksPerThread);
-    scan_.pool.run(reserve_threads, [&](size_t t) {
-      const auto [begin, end] = partRange(hit_blocks.size(), reserve_threads, t);
-      for (size_t k = begin; k < end; ++k) {
-        const HitBlock& h = hit_blocks[k];
-        ApplyBuffers::HitTarget& target = b_.hit_targets[k];
-        target.block = b_.map_blocks[size_t(merged.indexOf(blockOf(groups_.blockCell(h))))];
-        size_t missing = 0;
-        for (int w = 0; w < MapBlock::kWords; ++w)
-          if (const uint64_t m = h.hits[w] & ~target.block->has_stats[w])
-            missing += size_t(__builtin_popcountll(m));
-        if (missing > 0) target.grown.reserve(target.block->stats.size() + missing);
-      }
-    });
-
-    // Hit blocks split in ranges of near-equal numbers of ray ends: a hit cell's update
-    // reads all its points (coarse cells hold tens), and its merge comes on top.
-    hit_threads_ = std::max(scan_.threadsFor(hits, kMinPointsPerThread),
-                            scan_.threadsFor(cells_hit, kMinGroupsPerThread));
-    b_.hit_part_starts.resize(hit_threads_ + 1);
-    for (size_t t = 0; t <= hit_threads_; ++t) {
-      const size_t start = partRange(groups_.sorted_ends.size(), hit_threads_, t).first;
-      b_.hit_part_starts[t] =
-          size_t(std::lower_bound(hit_blocks.begin(), hit_blocks.end(), start,
-                                  [&](const HitBlock& h, size_t end) {
-                                    return groups_.groups[h.first_group].begin < end;
-                                  }) -
-                 hit_blocks.begin());
-    }
-    free_threads_ = scan_.threadsFor(blocks, kMinBlocksPerThread);
-    const size_t parts = std::max(free_threads_, hit_threads_);
-    if (b_.parts.size() < parts) b_.parts.resize(parts);
+    mergeCountBlocks();
+    findMapBlocks();
+    createNewBlocks();
+    reserveHitStats();
+    splitWork(hits, cells_hit);
   } catch (...) {
     for (const CellIndex& b : b_.created_blocks) grid_.erase(b);
     throw;
   }
+}
+
+// tables[0] gets a block for every block of the other tables and of the hits.
+void MapUpdate::mergeCountBlocks() {
+  ScanCounts& merged = counts_.tables[0];
+  for (size_t t = 1; t < counts_.used; ++t)
+    for (size_t i = 0; i < counts_.tables[t].numBlocks(); ++i)
+      merged.blockAt(counts_.tables[t].blockIndex(i));
+  for (const HitBlock& h : groups_.hit_blocks) merged.blockAt(blockOf(groups_.blockCell(h)));
+}
+
+// For each block of tables[0], the other tables' counters and the map's block (null if new).
+void MapUpdate::findMapBlocks() {
+  const size_t tables = counts_.used;
+  const ScanCounts& merged = counts_.tables[0];
+  const size_t blocks = merged.numBlocks();
+  b_.other_counts.resize(blocks * (tables - 1));
+  b_.map_blocks.resize(blocks);
+  // Lookups only (nothing is created until createNewBlocks), a hash lookup and likely a
+  // cache miss each: split over threads.
+  const size_t lookup_threads = scan_.threadsFor(blocks, kMinBlocksPerThread);
+  scan_.pool.run(lookup_threads, [&](size_t t) {
+    const auto [begin, end] = partRange(blocks, lookup_threads, t);
+    for (size_t i = begin; i < end; ++i) {
+      const CellIndex& b = merged.blockIndex(i);
+      for (size_t k = 1; k < tables; ++k)
+        b_.other_counts[i * (tables - 1) + k - 1] = counts_.tables[k].findBlock(b);
+      b_.map_blocks[i] = grid_.find(b);
+    }
+  });
+}
+
+// New blocks are created in coordinate order, not in the order the tables met them: the
+// map's iteration order (hence e.g. coarsened()) then does not depend on how the rays were
+// shared among threads.
+void MapUpdate::createNewBlocks() {
+  const ScanCounts& merged = counts_.tables[0];
+  b_.new_blocks.clear();
+  for (size_t i = 0; i < merged.numBlocks(); ++i)
+    if (!b_.map_blocks[i]) b_.new_blocks.push_back(i);
+  std::sort(b_.new_blocks.begin(), b_.new_blocks.end(),
+            [&](size_t a, size_t b) { return merged.blockIndex(a) < merged.blockIndex(b); });
+  b_.created_blocks.reserve(b_.new_blocks.size());
+  for (const size_t i : b_.new_blocks) {
+    b_.map_blocks[i] = &grid_.getOrCreate(merged.blockIndex(i));
+    b_.created_blocks.push_back(merged.blockIndex(i));
+  }
+}
+
+// Exact room for the statistics each hit block's cells may gain (hit cells without any):
+// memory follows the statistics. Each hit block on its own, split over threads.
+void MapUpdate::reserveHitStats() {
+  const ScanCounts& merged = counts_.tables[0];
+  const std::vector<HitBlock>& hit_blocks = groups_.hit_blocks;
+  b_.hit_targets.clear();  // no capacity left from a scan that failed here
+  b_.hit_targets.resize(hit_blocks.size());
+  const size_t reserve_threads = scan_.threadsFor(hit_blocks.size(), kMinBlocksPerThread);
+  scan_.pool.run(reserve_threads, [&](size_t t) {
+    const auto [begin, end] = partRange(hit_blocks.size(), reserve_threads, t);
+    for (size_t k = begin; k < end; ++k) {
+      const HitBlock& h = hit_blocks[k];
+      ApplyBuffers::HitTarget& target = b_.hit_targets[k];
+      target.block = b_.map_blocks[size_t(merged.indexOf(blockOf(groups_.blockCell(h))))];
+      size_t missing = 0;
+      for (int w = 0; w < MapBlock::kWords; ++w)
+        if (const uint64_t m = h.hits[w] & ~target.block->has_stats[w])
+          missing += size_t(__builtin_popcountll(m));
+      if (missing > 0) target.grown.reserve(target.block->stats.size() + missing);
+    }
+  });
+}
+
+// Hit blocks split in ranges of near-equal numbers of ray ends: a hit cell's update reads all
+// its points (coarse cells hold tens), and its merge comes on top.
+void MapUpdate::splitWork(size_t hits, size_t cells_hit) {
+  const std::vector<HitBlock>& hit_blocks = groups_.hit_blocks;
+  hit_threads_ = std::max(scan_.threadsFor(hits, kMinPointsPerThread),
+                          scan_.threadsFor(cells_hit, kMinGroupsPerThread));
+  b_.hit_part_starts.resize(hit_threads_ + 1);
+  for (size_t t = 0; t <= hit_threads_; ++t) {
+    const size_t start = partRange(groups_.sorted_ends.size(), hit_threads_, t).first;
+    b_.hit_part_starts[t] =
+        size_t(std::lower_bound(hit_blocks.begin(), hit_blocks.end(), start,
+                                [&](const HitBlock& h, size_t end) {
+                                  return groups_.groups[h.first_group].begin < end;
+                                }) -
+               hit_blocks.begin());
+  }
+  free_threads_ = scan_.threadsFor(counts_.tables[0].numBlocks(), kMinBlocksPerThread);
+  const size_t parts = std::max(free_threads_, hit_threads_);
+  if (b_.parts.size() < parts) b_.parts.resize(parts);
 }
 
 // Eq. 12 for the cells that rays crossed without a hit, in tables[0]'s blocks [begin, end):

@@ -6,13 +6,13 @@
 #include <cstddef>
 #include <vector>
 
-#include "../map_block.h"
-#include "../scan_counts.h"
-#include "end_groups.h"
-#include "free_rays.h"
-#include "ndtom/block_grid.h"
-#include "ndtom/options.h"
-#include "scan_context.h"
+#include "map/map_block.h"
+#include "insertion/scan_counts.h"
+#include "insertion/end_groups.h"
+#include "insertion/free_rays.h"
+#include "ndtom/map/block_grid.h"
+#include "ndtom/map/options.h"
+#include "insertion/scan_context.h"
 
 namespace ndtom {
 

@@ -1,4 +1,4 @@
-#include "classify_points.h"
+#include "insertion/classify_points.h"
 
 #include <algorithm>
 

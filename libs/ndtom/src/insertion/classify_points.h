@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "ndtom/cell_index.h"
-#include "ndtom/insertion_report.h"
-#include "scan_context.h"
+#include "ndtom/map/cell_index.h"
+#include "ndtom/map/insertion_report.h"
+#include "insertion/scan_context.h"
 
 namespace ndtom {
 
@@ -20,7 +20,7 @@ struct ClassifiedPoints {
   /// The points are cut in this many near-equal contiguous pieces: classification's threads
   /// take whole pieces, and tracing shares the rays among its threads by the pieces' lengths.
   static constexpr size_t kRayPieces = 256;
-  static_assert(kRayPieces >= size_t(InsertOptions::kMaxThreads), "a piece per thread");
+  static_assert(kRayPieces >= size_t(ScanOptions::kMaxThreads), "a piece per thread");
 
   /// Per input point: its kind and, unless rejected, its ray end (the hit point, or the
   /// max-range end of a truncated ray, world frame) and that end's cell.

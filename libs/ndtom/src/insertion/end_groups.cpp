@@ -1,4 +1,4 @@
-#include "end_groups.h"
+#include "insertion/end_groups.h"
 
 #include <algorithm>
 

@@ -1,12 +1,13 @@
-#include "free_rays.h"
+#include "insertion/free_rays.h"
 
 #include <algorithm>
 #include <optional>
 #include <stdexcept>
 
-#include "ndtom/owned_ray_walk.h"
-#include "ndtom/owned_tiles.h"
-#include "ndtom/ray_dda.h"
+#include "map/ray_dda.h"
+#include "partition/count_message.h"
+#include "partition/owned_ray_walk.h"
+#include "partition/tile_owner_table.h"
 
 namespace ndtom {
 
@@ -14,7 +15,7 @@ namespace {
 
 // Rays [begin, end) through the owned tiles only. Not inlined, as walkSerialRays below.
 template <class Walker, class RayEnd>
-[[gnu::noinline]] Walker walkOwnedRays(const ScanContext& scan, const OwnedTiles& tiles,
+[[gnu::noinline]] Walker walkOwnedRays(const ScanContext& scan, const TileOwnerTable& tiles,
                                        size_t begin, size_t end, RayEnd&& rayEnd, Walker count) {
   return OwnedRayWalk::walkRays(scan.geometry, scan.origin, begin, end, tiles, rayEnd, count);
 }
@@ -27,41 +28,125 @@ template <class Walker, class RayEnd>
   return walkRays(scan.geometry, scan.origin, begin, end, rayEnd, count);
 }
 
-// A message of counts: per block, its coordinates, the number n of its cells counted, then n
-// pairs (offset in the block, count). Blocks with no count go too: the walk that entered
-// them made them part of the scan, as in the serial walk.
-constexpr size_t kBlockHeaderWords = 4;
+// The rays of one scan: one per used point, or one per group of ends.
+struct Rays {
+  const ClassifiedPoints& points;
+  const EndGroups& groups;
+  bool per_point;
 
-void appendBlock(const CellIndex& b, const CountBlock& counts, std::vector<uint32_t>& words) {
-  const size_t header = words.size();
-  words.insert(words.end(), {uint32_t(b.x), uint32_t(b.y), uint32_t(b.z), 0});
-  uint32_t n = 0;
-  for (uint32_t i = 0; i < uint32_t(kBlockCells); ++i) {
-    if (counts.count[i] == 0) continue;
-    words.push_back(i);
-    words.push_back(counts.count[i]);
-    ++n;
+  size_t count() const { return per_point ? points.used : groups.groups.size(); }
+  size_t items() const { return per_point ? points.points() : groups.groups.size(); }
+  const Eigen::Vector3d* end(size_t i) const {
+    if (!per_point) return &groups.groups[i].mean_end;
+    return points.kinds[i] == PointKind::kRejected ? nullptr : &points.ends[i];
   }
-  words[header + 3] = n;
+};
+
+// Summed ray length (L1, what a walk costs) up to the end of each of the scan's pieces of rays:
+// [piece + 1], with [0] = 0.
+std::vector<double> cumulativeRayLength(const ScanContext& scan, const Rays& rays,
+                                        size_t threads) {
+  constexpr size_t kPieces = ClassifiedPoints::kRayPieces;
+  std::vector<double> cost(kPieces + 1, 0.0);
+  if (rays.per_point) {
+    std::copy(rays.points.piece_lengths.begin(), rays.points.piece_lengths.end(), cost.begin() + 1);
+  } else {
+    scan.pool.run(threads, [&](size_t t) {
+      const auto [first, last] = partRange(kPieces, threads, t);
+      for (size_t piece = first; piece < last; ++piece) {
+        const auto [begin, end] = partRange(rays.items(), kPieces, piece);
+        double sum = 0;
+        for (size_t i = begin; i < end; ++i) sum += (*rays.end(i) - scan.origin).lpNorm<1>();
+        cost[piece + 1] = sum;
+      }
+    });
+  }
+  for (size_t piece = 0; piece < kPieces; ++piece) cost[piece + 1] += cost[piece];
+  return cost;
 }
 
-void addMessage(const std::vector<uint32_t>& words, const TileOwnership& owned, ScanCounts& into) {
-  auto malformed = [] {
-    return std::runtime_error("insertScanPart: a malformed message of counts from another process");
+// Each thread walks a contiguous range of rays (neighbouring rays share cells, so its table
+// stays small), the ranges of near-equal total ray length; a process sharing the rays out
+// walks a range of them, of its share of their length. Returns threads + 1 bounds.
+std::vector<size_t> rayRanges(const ScanContext& scan, const ScanPart* part, const Rays& rays,
+                              size_t threads) {
+  const bool share_rays = part && part->exchange;
+  const size_t ranks = share_rays ? size_t(part->owned.ranks) : 1;
+  const size_t rank = share_rays ? size_t(part->owned.rank) : 0;
+  const size_t items = rays.items();
+  std::vector<size_t> bounds(threads + 1, items);
+  bounds[0] = 0;
+  if (threads == 1 && ranks == 1) return bounds;
+  constexpr size_t kPieces = ClassifiedPoints::kRayPieces;
+  const std::vector<double> cost = cumulativeRayLength(scan, rays, threads);
+  auto itemAt = [&](double fraction) {  // where that fraction of the total length is reached
+    size_t piece = 0;
+    while (piece < kPieces && cost[piece] < cost[kPieces] * fraction) ++piece;
+    return partRange(items, kPieces, piece).first;
   };
-  for (size_t at = 0; at < words.size();) {
-    if (words.size() - at < kBlockHeaderWords) throw malformed();
-    const CellIndex b{int32_t(words[at]), int32_t(words[at + 1]), int32_t(words[at + 2])};
-    const size_t n = words[at + 3];
-    at += kBlockHeaderWords;
-    if (!owned.ownsBlock(b) || n > size_t(kBlockCells) || (words.size() - at) / 2 < n)
-      throw malformed();
-    CountBlock& block = into.blockAt(b);
-    for (size_t k = 0; k < n; ++k, at += 2) {
-      if (words[at] >= uint32_t(kBlockCells)) throw malformed();
-      block.count[words[at]] += words[at + 1];
-    }
-  }
+  const double share = 1.0 / double(ranks);
+  bounds[0] = rank == 0 ? 0 : itemAt(double(rank) * share);
+  bounds[threads] = rank + 1 == ranks ? items : itemAt(double(rank + 1) * share);
+  for (size_t t = 1; t < threads; ++t)
+    bounds[t] = std::clamp(itemAt((double(rank) + double(t) / double(threads)) * share),
+                           bounds[0], bounds[threads]);
+  return bounds;
+}
+
+// A process walking only its tiles' stretches needs the owners of the tiles the rays cross:
+// the box of their ends and the sensor.
+std::optional<TileOwnerTable> ownerTableFor(const ScanContext& scan, const ScanPart* part,
+                                            const ClassifiedPoints& points) {
+  if (!part || part->exchange) return std::nullopt;
+  const CellIndex o = scan.geometry.cellOf(scan.origin);
+  return TileOwnerTable(part->owned, cellwiseMin(points.ends_lo, o),
+                        cellwiseMax(points.ends_hi, o));
+}
+
+// Walks the rays on `threads` threads into out.tables[t]; a thread done with its own range
+// helps with the others' (a ray's cost is only roughly its length). Returns the cells visited.
+size_t walkOnThreads(const ScanContext& scan, const Rays& rays, const std::vector<size_t>& bounds,
+                     const std::optional<TileOwnerTable>& tiles, size_t threads,
+                     FreeCounts& out) {
+  struct alignas(64) Cursor {  // the next ray of a range; own cache line
+    std::atomic<size_t> next{0};
+  };
+  std::vector<Cursor> cursors(threads);
+  for (size_t t = 0; t < threads; ++t) cursors[t].next.store(bounds[t], std::memory_order_relaxed);
+  constexpr size_t kRaysPerTake = 256;
+  std::vector<size_t> visits(threads, 0);
+  scan.pool.run(threads, [&](size_t t) {
+    auto forEachTake = [&](auto&& walkRange) {
+      for (size_t k = 0; k < threads; ++k) {  // its own range first, then the others'
+        const size_t range = (t + k) % threads, range_end = bounds[range + 1];
+        for (;;) {
+          const size_t begin =
+              cursors[range].next.fetch_add(kRaysPerTake, std::memory_order_relaxed);
+          if (begin >= range_end) break;
+          walkRange(begin, std::min(range_end, begin + kRaysPerTake));
+        }
+      }
+    };
+    // One walker type and one call per mode keep the mode out of the per-ray loop.
+    auto walkTakes = [&](auto count, auto&& endOf) {
+      forEachTake([&](size_t begin, size_t end) {
+        count = tiles ? walkOwnedRays(scan, *tiles, begin, end, endOf, count)
+                      : walkSerialRays(scan, begin, end, endOf, count);
+      });
+      visits[t] = count.visits();
+    };
+    if (rays.per_point)
+      walkTakes(UnitCountingWalker(out.tables[t]),
+                [&](size_t i, UnitCountingWalker&) { return rays.end(i); });
+    else
+      walkTakes(CountingWalker(out.tables[t]), [&](size_t i, CountingWalker& walker) {
+        walker.setWeight(rays.groups.groups[i].count);  // one ray per hit group, its weight
+        return &rays.groups.groups[i].mean_end;
+      });
+  });
+  size_t total = 0;
+  for (size_t n : visits) total += n;
+  return total;
 }
 
 // Sends the counts in other processes' tiles to their owners and adds theirs in this one's
@@ -75,7 +160,8 @@ void tradeCounts(const TileOwnership& owned, CountExchange& exchange, size_t thr
     for (size_t i = 0; i < table.numBlocks(); ++i) {
       const CellIndex& b = table.blockIndex(i);
       const int owner = owned.ownerOfTile(tileOfBlock(b, owned.tile_blocks));
-      if (owner != owned.rank) appendBlock(b, table.block(i), out.outgoing[size_t(owner)]);
+      if (owner != owned.rank)
+        appendCountBlock(b, table.block(i).count.data(), out.outgoing[size_t(owner)]);
     }
   }
   out.exchanged = true;
@@ -85,19 +171,19 @@ void tradeCounts(const TileOwnership& owned, CountExchange& exchange, size_t thr
   if (out.tables.size() < threads + 1) out.tables.resize(threads + 1);
   ScanCounts& received = out.tables[threads];
   received.setBlockLimit(nullptr);
-  for (const std::vector<uint32_t>& words : out.incoming) addMessage(words, owned, received);
+  for (const std::vector<uint32_t>& words : out.incoming)
+    addCountMessage(words, owned,
+                    [&](const CellIndex& b) { return received.blockAt(b).count.data(); });
   out.used = threads + 1;
 }
 
 }  // namespace
 
-void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
+void traceFreeRays(const ScanContext& scan, const ScanPart* part, const ClassifiedPoints& points,
                    const EndGroups& groups, std::atomic<int64_t>& blocks_left, FreeCounts& out,
                    InsertionReport& report) {
-  constexpr size_t kPieces = ClassifiedPoints::kRayPieces;
-  const bool per_point = scan.options.ray_mode == RayMode::PerPoint;
-  const size_t rays = per_point ? points.used : groups.groups.size();
-  const size_t threads = scan.threadsFor(rays, kMinRaysPerThread);
+  const Rays rays{points, groups, scan.options.ray_mode == RayMode::PerPoint};
+  const size_t threads = scan.threadsFor(rays.count(), kMinRaysPerThread);
   if (out.tables.size() < threads) out.tables.resize(threads);
   out.used = threads;
   for (size_t t = 0; t < threads; ++t) out.tables[t].setBlockLimit(&blocks_left);
@@ -108,101 +194,16 @@ void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
     }
   } unlimit{out};
 
-  const GridGeometry& geometry = scan.geometry;
-  const Eigen::Vector3d origin = scan.origin;
-  std::vector<size_t> visits(threads, 0);
-  // Each thread walks a contiguous range of rays (neighbouring rays share cells, so its table
-  // stays small), the ranges of near-equal total ray length (what a walk costs); a thread done
-  // with its range helps with the others' (a ray's cost is only roughly its length).
-  const size_t items = per_point ? points.points() : groups.groups.size();
-  auto rayEnd = [&](size_t i) -> const Eigen::Vector3d* {
-    if (!per_point) return &groups.groups[i].mean_end;
-    return points.kinds[i] == PointKind::kRejected ? nullptr : &points.ends[i];
-  };
-  // A process sharing the rays out walks a range of them, of its share of their length.
-  const bool share_rays = scan.owned && scan.exchange;
-  const size_t ranks = share_rays ? size_t(scan.owned->ranks) : 1;
-  const size_t rank = share_rays ? size_t(scan.owned->rank) : 0;
-  std::vector<size_t> bounds(threads + 1, items);
-  bounds[0] = 0;
-  if (threads > 1 || ranks > 1) {
-    std::vector<double> cost(kPieces + 1, 0.0);  // [piece + 1]: lengths up to its end
-    if (per_point) {
-      std::copy(points.piece_lengths.begin(), points.piece_lengths.end(), cost.begin() + 1);
-    } else {
-      scan.pool.run(threads, [&](size_t t) {
-        const auto [first, last] = partRange(kPieces, threads, t);
-        for (size_t piece = first; piece < last; ++piece) {
-          const auto [begin, end] = partRange(items, kPieces, piece);
-          double sum = 0;
-          for (size_t i = begin; i < end; ++i) sum += (*rayEnd(i) - origin).lpNorm<1>();
-          cost[piece + 1] = sum;
-        }
-      });
-    }
-    for (size_t piece = 0; piece < kPieces; ++piece) cost[piece + 1] += cost[piece];
-    auto itemAt = [&](double fraction) {  // where that fraction of the total length is reached
-      size_t piece = 0;
-      while (piece < kPieces && cost[piece] < cost[kPieces] * fraction) ++piece;
-      return partRange(items, kPieces, piece).first;
-    };
-    const double share = 1.0 / double(ranks);
-    bounds[0] = rank == 0 ? 0 : itemAt(double(rank) * share);
-    bounds[threads] = rank + 1 == ranks ? items : itemAt(double(rank + 1) * share);
-    for (size_t t = 1; t < threads; ++t)
-      bounds[t] = std::clamp(itemAt((double(rank) + double(t) / double(threads)) * share),
-                             bounds[0], bounds[threads]);
-  }
-  // The owners of the tiles the rays cross: the box of their ends and the sensor.
-  std::optional<OwnedTiles> tiles;
-  if (scan.owned && !share_rays) {
-    const CellIndex o = geometry.cellOf(origin);
-    tiles.emplace(*scan.owned, cellwiseMin(points.ends_lo, o), cellwiseMax(points.ends_hi, o));
-  }
-  struct alignas(64) Cursor {  // the next ray of a range; own cache line
-    std::atomic<size_t> next{0};
-  };
-  std::vector<Cursor> cursors(threads);
-  for (size_t t = 0; t < threads; ++t) cursors[t].next.store(bounds[t], std::memory_order_relaxed);
-  constexpr size_t kRaysPerTake = 256;
-  scan.pool.run(threads, [&](size_t t) {
-    auto forEachTake = [&](auto&& walkRange) {
-      for (size_t k = 0; k < threads; ++k) {  // its own range first, then the others'
-        const size_t range = (t + k) % threads, range_end = bounds[range + 1];
-        for (;;) {
-          const size_t begin =
-              cursors[range].next.fetch_add(kRaysPerTake, std::memory_order_relaxed);
-          if (begin >= range_end) break;
-          walkRange(begin, std::min(range_end, begin + kRaysPerTake));
-        }
-      }
-    };
-    // One walker type and one call per mode keep the mode out of the per-ray loop; a
-    // distributed build's process walks only its tiles' stretches of the rays.
-    auto walkTakes = [&](auto count, auto&& endOf) {
-      forEachTake([&](size_t begin, size_t end) {
-        count = tiles ? walkOwnedRays(scan, *tiles, begin, end, endOf, count)
-                      : walkSerialRays(scan, begin, end, endOf, count);
-      });
-      visits[t] = count.visits();
-    };
-    if (per_point)
-      walkTakes(UnitCountingWalker(out.tables[t]),
-                [&](size_t i, UnitCountingWalker&) { return rayEnd(i); });
-    else
-      walkTakes(CountingWalker(out.tables[t]), [&](size_t i, CountingWalker& walker) {
-        walker.setWeight(groups.groups[i].count);  // one ray per hit group, its weight
-        return &groups.groups[i].mean_end;
-      });
-  });
+  const std::vector<size_t> bounds = rayRanges(scan, part, rays, threads);
+  const std::optional<TileOwnerTable> tiles = ownerTableFor(scan, part, points);
+  report.voxel_visits += walkOnThreads(scan, rays, bounds, tiles, threads, out);
+  report.rays_cast = rays.count();
+  if (!part) return;
   // The stretches' walks also count a cell or two of other processes' tiles at their ends;
   // whole rays count in every tile, and those counts go to the tiles' owners.
-  if (share_rays) tradeCounts(*scan.owned, *scan.exchange, threads, out);
-  if (scan.owned)
-    for (size_t t = 0; t < threads; ++t)
-      out.tables[t].keepBlocksWhere([&](const CellIndex& b) { return scan.owned->ownsBlock(b); });
-  report.rays_cast = rays;
-  for (size_t n : visits) report.voxel_visits += n;
+  if (part->exchange) tradeCounts(part->owned, *part->exchange, threads, out);
+  for (size_t t = 0; t < threads; ++t)
+    out.tables[t].keepBlocksWhere([&](const CellIndex& b) { return part->owned.ownsBlock(b); });
 }
 
 }  // namespace ndtom

@@ -7,10 +7,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "../scan_counts.h"
-#include "classify_points.h"
-#include "end_groups.h"
-#include "scan_context.h"
+#include "insertion/scan_counts.h"
+#include "insertion/classify_points.h"
+#include "insertion/end_groups.h"
+#include "insertion/scan_context.h"
+#include "insertion/scan_part.h"
 
 namespace ndtom {
 
@@ -31,11 +32,11 @@ struct FreeCounts {
 /// Walks a ray per used point of `points` (RayMode::PerPoint) or per group of `groups` (to
 /// its mean end, weighted by its count), from the sensor, counting into `out`; the rays cast
 /// and cells visited go to `report`. The tables together add at most `blocks_left` blocks,
-/// else BlockLimitReached is thrown. A distributed build's process (scan.owned) ends with the
-/// counts of its own tiles only: with scan.exchange it walks a share of the rays whole and
-/// trades counts (throwing std::runtime_error if another process failed), else it walks the
-/// stretches of every ray through its tiles.
-void traceFreeRays(const ScanContext& scan, const ClassifiedPoints& points,
+/// else BlockLimitReached is thrown. A distributed build's process (`part`, else nullptr) ends
+/// with the counts of its own tiles only: with part->exchange it walks a share of the rays
+/// whole and trades counts (throwing std::runtime_error if another process failed), else it
+/// walks the stretches of every ray through its tiles.
+void traceFreeRays(const ScanContext& scan, const ScanPart* part, const ClassifiedPoints& points,
                    const EndGroups& groups, std::atomic<int64_t>& blocks_left, FreeCounts& out,
                    InsertionReport& report);
 

@@ -1,4 +1,4 @@
-#include "ray_ends.h"
+#include "insertion/ray_ends.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -6,9 +6,9 @@
 #include <string>
 #include <unordered_map>
 
-#include "../radix_sort.h"
-#include "ndtom/owned_tiles.h"
-#include "ndtom/tiles.h"
+#include "support/radix_sort.h"
+#include "partition/tile_owner_table.h"
+#include "ndtom/map/tile_index.h"
 
 namespace ndtom {
 
@@ -93,7 +93,7 @@ void keyEndsInBox(const ScanContext& scan, const ClassifiedPoints& points, const
 // Whether each block of the box from `lo` (nx × ny × nz) is in an owned tile, in the keys'
 // dense order.
 constexpr uint64_t kMaxOwnedBlocksTable = uint64_t(1) << 20;
-std::vector<uint8_t> ownedBlocks(const OwnedTiles::Lookup& owner, int tile_blocks,
+std::vector<uint8_t> ownedBlocks(const TileOwnerTable::Lookup& owner, int tile_blocks,
                                  const CellIndex& lo, uint64_t nx, uint64_t ny, uint64_t nz) {
   auto tilesOf = [&](int32_t first_block, uint64_t n) {  // per block along an axis
     std::vector<int32_t> t(n);
@@ -131,8 +131,8 @@ void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points,
   if (key_bits + out.point_bits <= 64) {
     if (hits_in) {  // the hits in its tiles
       // Neighbouring points often lie in different tiles: a table, not a hash per point.
-      const OwnedTiles tiles(*hits_in, points.ends_lo, points.ends_hi);
-      const OwnedTiles::Lookup owner = tiles.lookup();  // in registers, not rebuilt per point
+      const TileOwnerTable tiles(*hits_in, points.ends_lo, points.ends_hi);
+      const TileOwnerTable::Lookup owner = tiles.lookup();  // in registers, not rebuilt per point
       auto isHit = [&](size_t i) { return points.kinds[i] == PointKind::kHit; };
       if (nx * ny * nz <= kMaxOwnedBlocksTable) {  // the box's blocks' owners: one load a hit
         const std::vector<uint8_t> owned = ownedBlocks(owner, hits_in->tile_blocks, lo, nx, ny, nz);

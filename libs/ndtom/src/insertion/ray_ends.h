@@ -7,9 +7,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "classify_points.h"
-#include "ndtom/block_grid.h"
-#include "scan_context.h"
+#include "insertion/classify_points.h"
+#include "ndtom/map/block_grid.h"
+#include "insertion/scan_context.h"
+#include "ndtom/partition/tile_ownership.h"
 
 namespace ndtom {
 

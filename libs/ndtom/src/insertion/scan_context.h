@@ -6,11 +6,9 @@
 #include <algorithm>
 #include <cstddef>
 
-#include "../parallel.h"
-#include "ndtom/cell_index.h"
-#include "ndtom/count_exchange.h"
-#include "ndtom/options.h"
-#include "ndtom/tile_ownership.h"
+#include "support/parallel.h"
+#include "ndtom/map/cell_index.h"
+#include "ndtom/map/options.h"
 
 namespace ndtom {
 
@@ -23,14 +21,9 @@ inline constexpr size_t kMinBlocksPerThread = 32;
 
 struct ScanContext {
   const GridGeometry& geometry;
-  const InsertOptions& options;
+  const ScanOptions& options;
   Eigen::Vector3d origin;  ///< the sensor, world frame
   WorkerPool& pool;
-  /// A distributed build's process: only these tiles' cells change. nullptr: all cells.
-  const TileOwnership* owned = nullptr;
-  /// With `owned`: the process walks a share of the rays whole and trades counts through
-  /// this (count_exchange.h). nullptr: it walks every ray's stretches through its tiles.
-  CountExchange* exchange = nullptr;
 
   /// Threads for `items` of work, at least `min_items_per_thread` each, at most the options'.
   size_t threadsFor(size_t items, size_t min_items_per_thread) const {

@@ -1,9 +1,9 @@
-#include "ndt_objective.h"
+#include "registration/ndt_objective.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "pose_increment.h"
+#include "registration/pose_increment.h"
 
 namespace ndtom::registration {
 namespace {

@@ -1,10 +1,10 @@
-#include "newton_search.h"
+#include "registration/newton_search.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
-#include "pose_increment.h"
+#include "registration/pose_increment.h"
 
 namespace ndtom::registration {
 namespace {

@@ -6,7 +6,7 @@
 #include <Eigen/Geometry>
 #include <array>
 
-#include "ndt_objective.h"
+#include "registration/ndt_objective.h"
 
 namespace ndtom::registration {
 

@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-#include "ndtom/registration.h"
+#include "ndtom/registration/registration.h"
 
 namespace ndtom::registration {
 

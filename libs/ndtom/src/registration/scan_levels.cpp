@@ -1,10 +1,10 @@
-#include "scan_levels.h"
+#include "registration/scan_levels.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cstdint>
 
-#include "../radix_sort.h"
+#include "support/radix_sort.h"
 
 namespace ndtom::registration {
 namespace {

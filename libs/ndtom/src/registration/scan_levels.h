@@ -6,9 +6,9 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "ndtom/cell_stats.h"
-#include "ndtom/gaussian.h"
-#include "ndtom/registration.h"
+#include "ndtom/map/cell_stats.h"
+#include "ndtom/map/gaussian.h"
+#include "ndtom/registration/registration.h"
 
 namespace ndtom::registration {
 

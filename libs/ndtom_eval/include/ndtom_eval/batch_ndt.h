@@ -6,8 +6,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "ndtom/cell_index.h"
-#include "ndtom/cell_stats.h"
+#include "ndtom/map/cell_index.h"
+#include "ndtom/map/cell_stats.h"
 
 namespace ndtom {
 

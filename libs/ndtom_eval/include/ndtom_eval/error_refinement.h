@@ -22,9 +22,9 @@
 #include <unordered_map>
 #include <vector>
 
-#include "ndtom/cell_index.h"
-#include "ndtom/cell_stats.h"
-#include "ndtom/gaussian.h"
+#include "ndtom/map/cell_index.h"
+#include "ndtom/map/cell_stats.h"
+#include "ndtom/map/gaussian.h"
 #include "ndtom_eval/map_similarity.h"
 
 namespace ndtom {

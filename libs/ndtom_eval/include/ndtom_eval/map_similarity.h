@@ -10,8 +10,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "ndtom/cell_index.h"
-#include "ndtom/gaussian.h"
+#include "ndtom/map/cell_index.h"
+#include "ndtom/map/gaussian.h"
 #include "ndtom_eval/batch_ndt.h"
 
 namespace ndtom {

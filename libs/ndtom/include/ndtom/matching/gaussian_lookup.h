@@ -1,0 +1,112 @@
+// The Gaussians of a map prepared for queries that run many times per scan (likelihood,
+// registration): regularised covariance inverted once, found by cell in O(1) and by nearest
+// mean through a k-d tree. An immutable snapshot: build it again after the map changes.
+//
+// Threading: every member is const after construction, so concurrent queries are safe.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <vector>
+
+#include "ndtom/map/block_grid.h"
+#include "ndtom/map/cell_index.h"
+#include "ndtom/map/ndt_map.h"
+#include "ndtom/matching/point_kdtree.h"
+
+namespace ndtom {
+
+struct PreparedGaussian {
+  CellIndex cell;
+  uint32_t n = 0;                                  ///< points behind the estimate
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();  ///< world frame (m)
+  /// The regularised covariance (m²) and its inverse (m⁻²): d² = (p − μ)ᵀ·information·(p − μ).
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  double max_variance = 0;  ///< its largest eigenvalue (m²): d² ≥ |p − μ|² / max_variance
+  /// λ_min·Σ⁻¹ of the regularised covariance (dimensionless): applied to p − μ it keeps the
+  /// offset along the Gaussian's thinnest axis whole and shrinks the others by λ_min/λ_i, so
+  /// p − projection·(p − μ) is p moved onto a planar cell's plane, a linear cell's line, or
+  /// a round cell's mean.
+  Eigen::Matrix3d projection = Eigen::Matrix3d::Zero();
+};
+
+struct LookupOptions {
+  /// Only cells believed occupied (log-odds > 0) when the map tracks occupancy: free space
+  /// and vanished objects attract nothing (Default: false, every Gaussian).
+  bool occupied_only = false;
+  /// Build the k-d tree behind means() (Default: true).
+  bool nearest_means = true;
+};
+
+class GaussianLookup {
+ public:
+  /// Every cell of `map` with a Gaussian (N ≥ 3), its covariance regularised as the map's
+  /// options say. O(G log G) for G Gaussians.
+  explicit GaussianLookup(const NdtMap& map, const LookupOptions& options = {});
+
+  const GridGeometry& geometry() const { return geometry_; }
+  size_t size() const { return gaussians_.size(); }
+  bool empty() const { return gaussians_.empty(); }
+  /// In ascending cell order: deterministic whatever the map's insertion history.
+  const std::vector<PreparedGaussian>& gaussians() const { return gaussians_; }
+
+  /// The Gaussian of a cell; nullptr if the cell has none.
+  const PreparedGaussian* find(const CellIndex& cell) const;
+  /// The Gaussian of the cell holding `point`; nullptr if none or the point is out of range.
+  const PreparedGaussian* findAt(const Eigen::Vector3d& point) const;
+  /// f(const PreparedGaussian&) for each Gaussian in the 3×3×3 cells centred on `centre`
+  /// (in no particular order). One block lookup per block touched, usually one or two.
+  template <class F>
+  void forEachAround(const CellIndex& centre, F&& f) const;
+
+  /// k-d tree over the means; its indices are those of gaussians(). Empty unless built
+  /// (LookupOptions::nearest_means).
+  const PointKdTree& means() const { return means_; }
+
+ private:
+  static constexpr uint32_t kNone = UINT32_MAX;
+  /// Indices into gaussians_ of the cells of one block, kNone where there is no Gaussian.
+  struct IndexBlock {
+    std::array<uint32_t, kBlockCells> index;
+    IndexBlock() { index.fill(kNone); }
+  };
+
+  GridGeometry geometry_;
+  std::vector<PreparedGaussian> gaussians_;
+  BlockGrid<IndexBlock> by_cell_;  // blocks, not a hash per cell: neighbours share a block
+  PointKdTree means_;
+};
+
+template <class F>
+void GaussianLookup::forEachAround(const CellIndex& centre, F&& f) const {
+  const CellIndex lo{centre.x - 1, centre.y - 1, centre.z - 1};
+  const CellIndex hi{centre.x + 1, centre.y + 1, centre.z + 1};
+  const CellIndex block_lo = blockOf(lo), block_hi = blockOf(hi);
+  for (int32_t bz = block_lo.z; bz <= block_hi.z; ++bz)
+    for (int32_t by = block_lo.y; by <= block_hi.y; ++by)
+      for (int32_t bx = block_lo.x; bx <= block_hi.x; ++bx) {
+        const IndexBlock* block = by_cell_.find({bx, by, bz});
+        if (!block) continue;
+        // The part of the neighbourhood inside this block.
+        const CellIndex first = cellInBlock({bx, by, bz}, 0);
+        const int32_t x0 = std::max(lo.x, first.x), x1 = std::min(hi.x, first.x + kBlockEdge - 1);
+        const int32_t y0 = std::max(lo.y, first.y), y1 = std::min(hi.y, first.y + kBlockEdge - 1);
+        const int32_t z0 = std::max(lo.z, first.z), z1 = std::min(hi.z, first.z + kBlockEdge - 1);
+        for (int32_t z = z0; z <= z1; ++z)
+          for (int32_t y = y0; y <= y1; ++y)
+            for (int32_t x = x0; x <= x1; ++x) {
+              const uint32_t i = block->index[offsetInBlock({x, y, z})];
+              if (i != kNone) f(gaussians_[i]);
+            }
+      }
+}
+
+/// Squared Mahalanobis distance of `point` to `g` (its regularised covariance).
+inline double squaredMahalanobis(const PreparedGaussian& g, const Eigen::Vector3d& point) {
+  const Eigen::Vector3d d = point - g.mean;
+  return d.dot(g.information * d);
+}
+
+}  // namespace ndtom

@@ -1,0 +1,141 @@
+#include "insertion/scan_updater.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <stdexcept>
+#include <string>
+
+#include "ndtom_internal/input_file.h"
+
+namespace ndtom {
+
+namespace {
+
+ScanScratch& scratchOf(NdtMap& map) {
+  auto& scratch = MapInternals::scratch(map);
+  if (!scratch) scratch.reset(new ScanScratch);
+  return *scratch;
+}
+
+}  // namespace
+
+ScanUpdater::ScanUpdater(NdtMap& map, const ScanOptions& options, const ScanPart* part)
+    : map_(map), options_(options), s_(scratchOf(map)), part_(part) {
+  MapInternals::touch(map_);
+}
+
+InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
+                                 const Eigen::Vector3d& origin) {
+  // Any failure before this scan's count exchange, from here on, is told to the others.
+  s_.free_counts.exchanged = false;
+  struct FailureNotice {
+    ScanUpdater& updater;
+    const int exceptions = std::uncaught_exceptions();
+    ~FailureNotice() {
+      if (std::uncaught_exceptions() > exceptions) updater.tellOthersOfFailure();
+    }
+  } notice{*this};
+  validate(options_);
+  if (!map_.geometry().inRange(origin))
+    throw std::invalid_argument("insertScan: sensor origin is not finite or outside the grid");
+  if (points.size() > UINT32_MAX)
+    throw std::invalid_argument("insertScan: more than 2^32 points in one scan; split it");
+  InsertionReport report;
+  report.points_in = points.size();
+  s_.free_counts.reset();
+  checkBudgetForPoints(points.size());
+  const ScanContext scan{map_.geometry(), options_, origin, s_.pool};
+  const TileOwnership* owned = part_ ? &part_->owned : nullptr;
+  const bool occupancy = map_.options().occupancy.enabled;
+  const bool ray_per_group = occupancy && options_.ray_mode == RayMode::PerHitCell;
+
+  // Nothing below touches the map until applyToMap(), which cannot fail half-way.
+  try {
+    classifyPoints(scan, points, s_.points, report);
+    // Per-point rays need no groups: a process sorts and groups only its tiles' hits (the
+    // per-hit-cell mode casts a ray per group, so there every process groups every end).
+    sortRayEnds(scan, s_.points, ray_per_group ? nullptr : owned, s_.ray_ends);
+    groupEnds(scan, s_.points, s_.ray_ends, ray_per_group ? GroupMeans::Compute : GroupMeans::Skip,
+              s_.groups, report);
+    if (owned) dropHitsOutside(*owned);
+    checkBudgetForEnds(report);
+    if (occupancy) traceFreeRaysInBudget(scan, report);
+    const MapChange change = applyToMap(scan, map_.options(), s_.groups, s_.free_counts,
+                                        MapInternals::grid(map_), s_.apply, report);
+    MapInternals::countBlocks(map_, change.cells_created, change.stats_bytes);
+  } catch (const MemoryBudgetError&) {
+    for (ScanCounts& c : s_.free_counts.tables) c.releaseMemory();  // may hold the budget's worth
+    throw;
+  } catch (...) {
+    for (ScanCounts& c : s_.free_counts.tables) c.clear();  // the next scan starts from zero
+    throw;
+  }
+  return report;
+}
+
+void ScanUpdater::tellOthersOfFailure() noexcept {
+  // The others wait in this scan's exchange. A process whose exchange itself threw does not
+  // call it again.
+  if (!part_ || !part_->exchange || !map_.options().occupancy.enabled || s_.free_counts.exchanged)
+    return;  // (without occupancy no process traces rays, so none exchanges)
+  s_.free_counts.exchanged = true;
+  try {
+    std::vector<std::vector<uint32_t>> none, ignored;
+    part_->exchange->exchange(true, none, ignored);
+  } catch (...) {  // the scan's own error is the one to report
+  }
+}
+
+void ScanUpdater::dropHitsOutside(const TileOwnership& owned) {
+  // Other processes update these cells; the groups stay, as per-hit-cell rays start from them.
+  // (With per-point rays only owned hits were grouped: nothing to drop.)
+  std::vector<HitBlock>& hits = s_.groups.hit_blocks;
+  hits.erase(std::remove_if(hits.begin(), hits.end(),
+                            [&](const HitBlock& h) {
+                              return !owned.ownsBlock(blockOf(s_.groups.blockCell(h)));
+                            }),
+             hits.end());
+}
+
+void ScanUpdater::checkBudgetForPoints(size_t points) {
+  budget_used_ = map_.memoryBytes() + points * kBytesPerPoint;
+  if (budget_used_ > options_.memory_budget)
+    throw MemoryBudgetError("insertScan: a scan of " + std::to_string(points) +
+                                " points (the map takes " + megabytes(map_.memoryBytes()) + ")",
+                            budget_used_, options_.memory_budget);
+}
+
+void ScanUpdater::checkBudgetForEnds(const InsertionReport& report) {
+  // The hit cells' blocks and statistics, counted by groupEnds: no pass over the groups.
+  const size_t end_blocks = s_.groups.hit_blocks.size();
+  budget_used_ += report.cells_hit * sizeof(CellStats) + end_blocks * kBytesPerNewBlock;
+  const uint64_t budget = options_.memory_budget;
+  if (budget_used_ > budget) {
+    char resolution[32];
+    std::snprintf(resolution, sizeof(resolution), "%g", map_.options().resolution);
+    throw MemoryBudgetError("insertScan: a scan whose hits lie in " + std::to_string(end_blocks) +
+                                " blocks of 8^3 cells (resolution " + resolution + " m)",
+                            budget_used_, budget);
+  }
+  blocks_left_.store(int64_t((budget - budget_used_) / kBytesPerNewBlock),
+                     std::memory_order_relaxed);
+}
+
+void ScanUpdater::traceFreeRaysInBudget(const ScanContext& scan, InsertionReport& report) {
+  try {
+    traceFreeRays(scan, part_, s_.points, s_.groups, blocks_left_, s_.free_counts, report);
+  } catch (const BlockLimitReached&) {
+    char resolution[32];
+    std::snprintf(resolution, sizeof(resolution), "%g", map_.options().resolution);
+    const size_t end_blocks = s_.groups.hit_blocks.size();
+    size_t blocks = end_blocks;
+    for (size_t t = 0; t < s_.free_counts.used; ++t) blocks += s_.free_counts.tables[t].numBlocks();
+    throw MemoryBudgetError(
+        "insertScan: a scan whose rays cross more than " + std::to_string(blocks) +
+            " blocks of 8^3 cells (resolution " + resolution + " m)",
+        budget_used_ + (blocks - end_blocks + 1) * kBytesPerNewBlock, options_.memory_budget);
+  }
+}
+
+}  // namespace ndtom

@@ -1,0 +1,82 @@
+#include "registration/verdict.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <sstream>
+
+#include "registration/newton_search.h"
+
+namespace ndtom::registration {
+
+namespace {
+
+/// Whether `cell` is known free and none of the 26 around it is occupied: open space, where a
+/// right pose puts only moving objects. (A free cell beside a surface is no evidence: rays
+/// that grazed the surface freed it, and the scan's noise reaches it.)
+bool inOpenFreeSpace(const NdtMap& map, const CellIndex& cell) {
+  const auto c = map.cell(cell);
+  if (!c || !(c->logodds < 0.f)) return false;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const auto n = map.cell({cell.x + dx, cell.y + dy, cell.z + dz});
+        if (n && n->logodds > 0.f) return false;
+      }
+  return true;
+}
+
+}  // namespace
+
+double freeFraction(const NdtMap& map, const ScanLevel& level, const Eigen::Isometry3d& pose) {
+  if (!map.options().occupancy.enabled || level.size() == 0) return 0;
+  size_t free = 0;
+  auto count = [&](const Eigen::Vector3d& item) {
+    const Eigen::Vector3d p = pose * item;
+    free += map.geometry().inRange(p) && inOpenFreeSpace(map, map.geometry().cellOf(p));
+  };
+  for (const Eigen::Vector3d& p : level.points) count(p);
+  for (const ScanGaussian& g : level.gaussians) count(g.mean);
+  return double(free) / double(level.size());
+}
+
+PoseCovariance poseCovariance(const NdtObjective& finest, const Eigen::Isometry3d& pose,
+                              bool planar) {
+  const std::array<bool, 6> free = freeParameters(planar);
+  const PoseInformation info = finest.information(pose);
+  // (Fixed parameters get a curvature on the scale of the others: out of the rank test.)
+  const double typical = std::max(info.information.diagonal().maxCoeff(), 1e-300);
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(restrictTo(info.information, free, typical));
+  const size_t free_count = size_t(std::count(free.begin(), free.end(), true));
+  PoseCovariance out;
+  out.constrained = info.terms > free_count && eig.eigenvalues()[0] > 1e-9 * eig.eigenvalues()[5];
+  if (out.constrained) {
+    // Residuals as the map's Gaussians predict give χ² ≈ 3 per term: a scale near 1.
+    const double scale = info.chi2 / double(3 * info.terms - free_count);
+    out.covariance =
+        restrictTo(scale * eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() *
+                       eig.eigenvectors().transpose(),
+                   free, 0.0);
+  } else {
+    out.covariance = restrictTo(Matrix6d::Identity() * 1e6, free, 0.0);
+  }
+  return out;
+}
+
+std::string verdict(const LevelReport& finest, double free_fraction, bool constrained,
+                    const RegistrationOptions& o) {
+  std::ostringstream why;
+  if (!finest.converged) {
+    why << "the finest level did not converge in " << o.max_iterations << " iterations";
+  } else if (finest.matched_fraction < o.min_matched_fraction) {
+    why << "only " << finest.matched_fraction << " of the scan matched the map (min_matched_fraction "
+        << o.min_matched_fraction << ")";
+  } else if (free_fraction > o.max_free_fraction) {
+    why << free_fraction << " of the scan lies in open space the map has seen free "
+        << "(max_free_fraction " << o.max_free_fraction << ")";
+  } else if (!constrained) {
+    why << "the matched part of the scan does not constrain all six degrees of freedom";
+  }
+  return why.str();
+}
+
+}  // namespace ndtom::registration
