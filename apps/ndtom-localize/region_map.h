@@ -1,4 +1,4 @@
-// The part of a tiled map (ndtom/tiled_map.h) around the robot, for localizing in a map of
+// The part of a tiled map (ndtom/files/tiled_map_io.h) around the robot, for localizing in a map of
 // any size: the tiles within a radius (in x-y) of where the robot is predicted to be are
 // resident, those beyond the radius plus a tile's edge are dropped (the margin keeps a robot
 // driving along a tile's edge from loading and dropping it over and over).

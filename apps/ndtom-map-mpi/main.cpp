@@ -1,5 +1,5 @@
 // ndtom-map-mpi: ndtom-map with the insertion spread over MPI processes, each owning part of
-// space (ndtom/tile_ownership.h) and walking a share of each scan's rays (--ray-share);
+// space (ndtom/partition/tile_ownership.h) and walking a share of each scan's rays (--ray-share);
 // process 0 gathers the map and writes ndtom-map's outputs.
 // The map is ndtom-map's bit for bit. Exit code 0 on success, 1 for bad input data or a failed
 // write (the other processes are stopped), 2 for a bad command line.

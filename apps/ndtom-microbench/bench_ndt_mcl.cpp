@@ -1,5 +1,5 @@
-// NDT-MCL's per-particle likelihood (ndtom/ndt_mcl.h) against the point-based one
-// (ndtom/ndt_likelihood.h), on real lidar scans: a 0.2 m map of scans 0-29 and scan 35 as the
+// NDT-MCL's per-particle likelihood (ndtom/localization/ndt_mcl.h) against the point-based one
+// (ndtom/matching/ndt_likelihood.h), on real lidar scans: a 0.2 m map of scans 0-29 and scan 35 as the
 // observation, scored at 1000 poses scattered around its reference pose like the particles of
 // a filter near convergence (σ 0.2 m in x and y, 0.05 m in z, 1° in roll and pitch, 3° in yaw).
 // Needs the full sequence: NDTOM_MICROBENCH_DATA=../shared/datasets/balm-realworld. With the

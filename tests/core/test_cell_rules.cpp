@@ -11,8 +11,8 @@
 #include <tuple>
 #include <utility>
 
-#include "ndtom/map/cell_rules.h"
 #include "ndtom/files/map_io.h"
+#include "ndtom/map/cell_rules.h"
 #include "ndtom_internal/crc32.h"
 #include "support/ndtom_file_builder.h"
 

@@ -8,11 +8,11 @@
 #include <map>
 #include <random>
 
-#include "ndtom/scale/distributed_insert.h"
-#include "ndtom/scale/block_moves.h"
-#include "ndtom/files/map_io.h"
-#include "partition/owned_ray_walk.h"
 #include "map/ray_dda.h"
+#include "ndtom/files/map_io.h"
+#include "ndtom/scale/block_moves.h"
+#include "ndtom/scale/distributed_insert.h"
+#include "partition/owned_ray_walk.h"
 #include "support/lidar_scans.h"
 #include "support/map_equality.h"
 
@@ -237,7 +237,8 @@ TEST(DistributedBuild, ProcessesMapsTogetherAreTheSerialMapBitForBit) {
         for (int rank = 0; rank < ranks; ++rank) {
           const TileOwnership owned{2, rank, ranks};
           NdtMap part(o);
-          for (const auto& s : scans) ndtom::insertScanPart(part, s.points, s.origin, insert, owned);
+          for (const auto& s : scans)
+            ndtom::insertScanPart(part, s.points, s.origin, insert, owned);
           size_t foreign = 0;
           part.forEachBlock([&](const CellIndex& b) { foreign += !owned.ownsBlock(b); });
           EXPECT_EQ(foreign, 0u);

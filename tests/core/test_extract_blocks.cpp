@@ -6,8 +6,8 @@
 #include <utility>
 #include <vector>
 
-#include "ndtom/scale/block_moves.h"
 #include "ndtom/map/ndt_map.h"
+#include "ndtom/scale/block_moves.h"
 #include "support/map_equality.h"
 
 namespace {

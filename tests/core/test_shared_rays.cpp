@@ -9,9 +9,9 @@
 #include <stdexcept>
 #include <thread>
 
-#include "ndtom/scale/distributed_insert.h"
-#include "ndtom/scale/block_moves.h"
 #include "ndtom/files/map_io.h"
+#include "ndtom/scale/block_moves.h"
+#include "ndtom/scale/distributed_insert.h"
 #include "ndtom_internal/thread_count_exchange.h"
 #include "support/lidar_scans.h"
 #include "support/map_equality.h"
@@ -68,8 +68,9 @@ TEST(SharedRays, ProcessesMapsTogetherAreTheSerialMapBitForBit) {
           const TileOwnership owned{2, rank, ranks};
           for (const auto& s : scans)
             visits[size_t(rank)] +=
-                
-                    ndtom::insertScanPart(parts[size_t(rank)], s.points, s.origin, insert, owned, hub.port(rank))
+
+                ndtom::insertScanPart(parts[size_t(rank)], s.points, s.origin, insert, owned,
+                                      hub.port(rank))
                     .voxel_visits;
         });
         size_t all_visits = 0;
@@ -160,8 +161,9 @@ TEST(SharedRays, RefusesAMalformedMessageAndKeepsItsMap) {
     const std::vector<uint8_t> before = ndtom::encodeMap(part);
     ForgingExchange forging;
     forging.forged = forged;
-    EXPECT_THROW(ndtom::insertScanPart(part, scans[1].points, scans[1].origin, o.scan, owned, forging),
-                 std::runtime_error);
+    EXPECT_THROW(
+        ndtom::insertScanPart(part, scans[1].points, scans[1].origin, o.scan, owned, forging),
+        std::runtime_error);
     EXPECT_EQ(ndtom::encodeMap(part), before);
     // The same scan with a well-formed message of the same block is taken.
     forging.forged = {mine, 0, 0, 1, 5, 1};

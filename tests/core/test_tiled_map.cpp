@@ -10,9 +10,9 @@
 #include <iterator>
 #include <set>
 
+#include "ndtom/files/tiled_map_io.h"
 #include "ndtom/map/block_grid.h"
 #include "ndtom_internal/crc32.h"
-#include "ndtom/files/tiled_map_io.h"
 #include "support/lidar_scans.h"
 #include "support/map_equality.h"
 

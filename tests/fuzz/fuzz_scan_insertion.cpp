@@ -51,8 +51,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const double resolutions[] = {0.05, 0.125, 0.25, 1.0};
   options.resolution = resolutions[in.byte() % 4];
   options.occupancy.enabled = in.byte() % 4 != 0;
-  options.scan.ray_mode =
-      in.byte() % 2 ? ndtom::RayMode::PerHitCell : ndtom::RayMode::PerPoint;
+  options.scan.ray_mode = in.byte() % 2 ? ndtom::RayMode::PerHitCell : ndtom::RayMode::PerPoint;
   options.scan.threads = in.byte() % 4 == 0 ? 2 : 1;
   options.scan.max_range = in.byte() % 2 ? 4.0 : INFINITY;
   ndtom::NdtMap map(options);

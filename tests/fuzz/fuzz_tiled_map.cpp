@@ -1,5 +1,5 @@
-// Fuzz target: the tiled map reader (ndtom/tiled_map.h). The trailer's checksum is made right
-// for the mutated header and index where their sizes allow, so mutations reach the index
+// Fuzz target: the tiled map reader (ndtom/files/tiled_map_io.h). The trailer's checksum is made
+// right for the mutated header and index where their sizes allow, so mutations reach the index
 // checks; each tile carries its own checksum. Any input either loads, and then saves and
 // loads again to the same map, or is rejected with an exception derived from
 // std::runtime_error (MapFormatError, MemoryBudgetError, unreadable file). Crashes, leaks,

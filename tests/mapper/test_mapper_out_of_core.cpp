@@ -3,10 +3,10 @@
 // plus the tiles one scan reaches (computed here from the scans and the in-memory map).
 #include <algorithm>
 
-#include "ndtom/scale/block_moves.h"
 #include "mapper_run.h"
 #include "ndtom/files/map_io.h"
 #include "ndtom/files/tiled_map_io.h"
+#include "ndtom/scale/block_moves.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 

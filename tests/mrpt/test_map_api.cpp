@@ -207,8 +207,7 @@ TEST(MapApi, VoxelsAgreeWithMrptsOccupancyGrid3d) {
   CNDTOccupancyMap ndt(0.2);
   ndt.insertionOptions.occupancy.p_hit = 0.865;
   ndt.insertionOptions.occupancy.p_miss = 0.4;
-  ndt.insertionOptions.scan.max_range =
-      std::numeric_limits<double>::infinity();  // MRPT: no limit
+  ndt.insertionOptions.scan.max_range = std::numeric_limits<double>::infinity();  // MRPT: no limit
   for (const auto& f : frames) ndt.insertObservation(*f.scan, f.pose);
   const mrpt::math::TBoundingBox box = ndt.boundingBox();
   mrpt::maps::COccupancyGridMap3D grid(box.min - mrpt::math::TPoint3D(1, 1, 1),

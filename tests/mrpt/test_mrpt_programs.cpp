@@ -11,9 +11,6 @@
 //  - rawlog-edit -p, RawLogViewer -l and SceneViewer3D -l (under Xvfb) load the plugin.
 #include <fcntl.h>
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/CSimpleMap.h>
@@ -22,6 +19,9 @@
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CSetOfTriangles.h>
 #include <mrpt/poses/CPose3DPDF.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>

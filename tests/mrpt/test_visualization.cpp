@@ -201,7 +201,7 @@ TEST(Visualization, RendersOffscreen) {
 
 TEST(Visualization, RecursiveNdtMapsDrawEveryGaussian) {
   // Without occupancy there are no log-odds: every cell with a Gaussian is occupied (the one
-  // rule of ndtom/map_queries.h), and nothing is free.
+  // rule of ndtom/map/map_queries.h), and nothing is free.
   auto map = CNDTOccupancyMap::Create(0.5);
   map->insertionOptions.occupancy.enabled = false;
   map->renderOptions.show_free_cells = true;

@@ -8,10 +8,10 @@
 #include <random>
 #include <thread>
 
-#include "ndtom/matching/gaussian_lookup.h"
 #include "ndtom/files/map_io.h"
-#include "ndtom/matching/ndt_likelihood.h"
 #include "ndtom/map/ndt_map.h"
+#include "ndtom/matching/gaussian_lookup.h"
+#include "ndtom/matching/ndt_likelihood.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 

@@ -46,8 +46,7 @@ TEST(OptionLimits, AbsurdValuesAreRefusedNamingTheOption) {
       "max_range");
   expectRejected([](ndtom::MapOptions& o) { o.scan.threads = 0; }, "threads");
   expectRejected([](ndtom::MapOptions& o) { o.scan.memory_budget = 999999; }, "memory_budget");
-  expectRejected([](ndtom::MapOptions& o) { o.scan.ray_mode = ndtom::RayMode(7); },
-                 "ray_mode");
+  expectRejected([](ndtom::MapOptions& o) { o.scan.ray_mode = ndtom::RayMode(7); }, "ray_mode");
   expectRejected([](ndtom::MapOptions& o) { o.regularization.min_eigen_ratio = 2; },
                  "min_eigen_ratio");
   expectRejected([](ndtom::MapOptions& o) { o.regularization.min_eigen_abs = -1; },

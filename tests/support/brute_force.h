@@ -4,8 +4,8 @@
 #include <Eigen/Core>
 #include <set>
 
-#include "ndtom/map/cell_index.h"
 #include "map/ray_dda.h"
+#include "ndtom/map/cell_index.h"
 
 namespace ndtom::testing {
 

@@ -8,11 +8,11 @@
 #include <fstream>
 #include <iterator>
 
-#include "ndtom/scale/block_moves.h"
 #include "city_route.h"
 #include "ndtom/files/map_io.h"
-#include "ndtom/scale/out_of_core_map.h"
 #include "ndtom/files/tiled_map_io.h"
+#include "ndtom/scale/block_moves.h"
+#include "ndtom/scale/out_of_core_map.h"
 #include "simulated_lidar.h"
 #include "support/map_equality.h"
 

@@ -1,6 +1,5 @@
 // CNDTOccupancyMap: registration, construction, options, serialization.
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "mrpt_ndtom/encoded_archive.h"
 
 #include <mrpt/serialization/CArchive.h>
 
@@ -10,6 +9,7 @@
 #include <utility>
 
 #include "archive_checks.h"
+#include "mrpt_ndtom/encoded_archive.h"
 #include "ndtom/files/map_io.h"
 #include "ndtom/map/option_table.h"
 #include "scan_ndt_cache.h"
@@ -328,7 +328,7 @@ void CNDTOccupancyMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
                              "genericMapParams.enableObservationInsertion");
       uint64_t size = 0;
       in >> size;
-      // This object's budget (insertion.memory_budget is this object's too): a corrupt
+      // This object's budget (insertion.scan.memory_budget is this object's too): a corrupt
       // archive cannot raise it.
       const uint64_t budget = insertion.toMapOptions().scan.memory_budget;
       const std::vector<uint8_t> bytes = readMapBytes(in, size, budget);

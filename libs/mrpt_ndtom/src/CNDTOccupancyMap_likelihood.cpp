@@ -4,9 +4,9 @@
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 #include "mrpt_ndtom/points_map.h"
+#include "ndtom/localization/ndt_mcl.h"
 #include "ndtom/matching/ndt_correspondences.h"
 #include "ndtom/matching/ndt_likelihood.h"
-#include "ndtom/localization/ndt_mcl.h"
 #include "scan_ndt_cache.h"
 
 namespace mrpt_ndtom {

@@ -12,8 +12,8 @@
 #include "archive_checks.h"
 #include "ini_values.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
-#include "ndtom/matching/ndt_likelihood.h"
 #include "ndtom/map/option_table.h"
+#include "ndtom/matching/ndt_likelihood.h"
 
 namespace mrpt_ndtom {
 namespace {
@@ -56,7 +56,7 @@ void validateStored(const char* what, F&& validate) {
 }  // namespace
 
 // --- TInsertionOptions -------------------------------------------------------------------
-// The core's options come from its table (ndtom/option_table.h), by their row names; the
+// The core's options come from its table (ndtom/map/option_table.h), by their row names; the
 // decimations are the plugin's own.
 
 namespace {
@@ -157,10 +157,9 @@ TPointExtractionOptions CNDTOccupancyMap::TInsertionOptions::extractionOptions()
 void CNDTOccupancyMap::TInsertionOptions::writeToStream(mrpt::serialization::CArchive& out) const {
   const uint8_t version = 1;
   out << version << resolution << occupancy.enabled << occupancy.p_hit << occupancy.p_miss
-      << occupancy.logodds_min << occupancy.logodds_max << insertion.min_range
-      << insertion.max_range << int32_t(insertion.ray_mode) << decimation << decimation_3d_range
-      << regularization.min_eigen_ratio << regularization.min_eigen_abs
-      << int32_t(insertion.threads);
+      << occupancy.logodds_min << occupancy.logodds_max << scan.min_range << scan.max_range
+      << int32_t(scan.ray_mode) << decimation << decimation_3d_range
+      << regularization.min_eigen_ratio << regularization.min_eigen_abs << int32_t(scan.threads);
 }
 
 // Reads into a copy and validates it: corrupt data throws (naming the option) and leaves the
@@ -170,7 +169,7 @@ void CNDTOccupancyMap::TInsertionOptions::readFromStream(mrpt::serialization::CA
   uint8_t version;
   in >> version;
   TInsertionOptions read;
-  read.scan.memory_budget = insertion.memory_budget;
+  read.scan.memory_budget = scan.memory_budget;
   switch (version) {
     case 0:
     case 1: {
@@ -178,9 +177,9 @@ void CNDTOccupancyMap::TInsertionOptions::readFromStream(mrpt::serialization::CA
       in >> read.resolution;
       read.occupancy.enabled = detail::readBool(in, "insertionOptions.occupancy_enabled");
       in >> read.occupancy.p_hit >> read.occupancy.p_miss >> read.occupancy.logodds_min >>
-          read.occupancy.logodds_max >> read.scan.min_range >> read.scan.max_range >>
-          mode >> read.decimation >> read.decimation_3d_range >>
-          read.regularization.min_eigen_ratio >> read.regularization.min_eigen_abs;
+          read.occupancy.logodds_max >> read.scan.min_range >> read.scan.max_range >> mode >>
+          read.decimation >> read.decimation_3d_range >> read.regularization.min_eigen_ratio >>
+          read.regularization.min_eigen_abs;
       if (mode != int32_t(ndtom::RayMode::PerPoint) && mode != int32_t(ndtom::RayMode::PerHitCell))
         THROW_EXCEPTION(mrpt::format("insertionOptions.ray_mode = %d: unknown ray mode", mode));
       read.scan.ray_mode = ndtom::RayMode(mode);

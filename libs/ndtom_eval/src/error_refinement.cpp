@@ -5,9 +5,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "map/ray_dda.h"
 #include "ndtom/map/insertion_report.h"
 #include "ndtom/map/options.h"
-#include "map/ray_dda.h"
 
 namespace ndtom {
 

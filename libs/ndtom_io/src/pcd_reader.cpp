@@ -5,9 +5,9 @@
 #include <sstream>
 
 #include "lzf.h"
+#include "ndtom_internal/atomic_file.h"
 #include "ndtom_internal/checked_size.h"
 #include "ndtom_internal/input_file.h"
-#include "ndtom_internal/atomic_file.h"
 
 namespace ndtom::io {
 namespace {

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <sstream>
 
-#include "ndtom_internal/input_file.h"
 #include "ndtom_internal/atomic_file.h"
+#include "ndtom_internal/input_file.h"
 
 namespace ndtom::io {
 namespace {

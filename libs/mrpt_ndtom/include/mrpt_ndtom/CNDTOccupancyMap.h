@@ -34,10 +34,10 @@
 
 #include "mrpt_ndtom/ndt_visualization.h"
 #include "mrpt_ndtom/observation_points.h"
-#include "ndtom/matching/gaussian_lookup.h"
+#include "ndtom/localization/ndt_mcl.h"
 #include "ndtom/map/map_queries.h"
 #include "ndtom/map/ndt_map.h"
-#include "ndtom/localization/ndt_mcl.h"
+#include "ndtom/matching/gaussian_lookup.h"
 
 namespace mrpt_ndtom {
 namespace detail {
@@ -55,7 +55,7 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
   ~CNDTOccupancyMap() override = default;
 
   /// How observations are inserted (paper Sec. III): the core's MapOptions (resolution,
-  /// occupancy.p_hit, insertion.threads, ...; see ndtom/option_table.h for every option, its
+  /// occupancy.p_hit, scan.threads, ...; see ndtom/map/option_table.h for every option, its
   /// .ini key, unit and bounds) plus how points are taken from observations. Changes apply at
   /// the next insertion; the resolution can only change while the map is empty.
   class TInsertionOptions : public mrpt::config::CLoadableOptions, public ndtom::MapOptions {
@@ -82,10 +82,11 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
 
   /// How computeObservationLikelihood() scores an observation.
   enum class TLikelihoodMethod : int32_t {
-    /// Each point against the best Gaussian near it (ndtom/ndt_likelihood.h).
+    /// Each point against the best Gaussian near it (ndtom/matching/ndt_likelihood.h).
     Points = 0,
     /// NDT-MCL: the scan's own NDT, built once per observation, each of its Gaussians
-    /// against the map Gaussian of its cell (ndtom/ndt_mcl.h). Made for particle filters:
+    /// against the map Gaussian of its cell (ndtom/localization/ndt_mcl.h). Made for particle
+    /// filters:
     /// a few hundred terms per particle.
     NdtMcl = 1
   };
@@ -196,8 +197,8 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
   void getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const override;
 
   /// For ICP: pairs each point of `otherMap` (a CPointsMap) with its projection on the best
-  /// nearby Gaussian (see ndtom/ndt_correspondences.h). `global` is that projection in this
-  /// map's frame, `local` the point in the other map's frame, `globalIdx` the Gaussian's index
+  /// nearby Gaussian (see ndtom/matching/ndt_correspondences.h). `global` is that projection in
+  /// this map's frame, `local` the point in the other map's frame, `globalIdx` the Gaussian's index
   /// in gaussianLookup(). Honours maxDistForCorrespondence, maxAngularDistForCorrespondence,
   /// decimation_other_map_points and offset_other_map_points.
   void determineMatching3D(const mrpt::maps::CMetricMap* otherMap,

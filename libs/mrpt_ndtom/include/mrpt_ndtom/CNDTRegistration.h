@@ -1,4 +1,4 @@
-// CNDTRegistration: NDT scan-to-map registration (ndtom/registration.h) as an MRPT map
+// CNDTRegistration: NDT scan-to-map registration (ndtom/registration/registration.h) as an MRPT map
 // alignment algorithm, swappable with mrpt::slam::CICP wherever a
 // CMetricMapsAlignmentAlgorithm is used:
 //

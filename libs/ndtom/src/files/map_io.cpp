@@ -7,10 +7,10 @@
 
 #include "files/map_codec.h"
 #include "ndtom/map/cell_rules.h"
-#include "ndtom_internal/input_file.h"
 #include "ndtom/map/option_table.h"
 #include "ndtom_internal/atomic_file.h"
 #include "ndtom_internal/crc32.h"
+#include "ndtom_internal/input_file.h"
 
 namespace ndtom {
 namespace {

@@ -6,13 +6,13 @@
 #include <cstddef>
 #include <vector>
 
-#include "map/map_block.h"
-#include "insertion/scan_counts.h"
 #include "insertion/end_groups.h"
 #include "insertion/free_rays.h"
+#include "insertion/scan_context.h"
+#include "insertion/scan_counts.h"
+#include "map/map_block.h"
 #include "ndtom/map/block_grid.h"
 #include "ndtom/map/options.h"
-#include "insertion/scan_context.h"
 
 namespace ndtom {
 

@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "insertion/scan_context.h"
 #include "ndtom/map/cell_index.h"
 #include "ndtom/map/insertion_report.h"
-#include "insertion/scan_context.h"
 
 namespace ndtom {
 

@@ -8,11 +8,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "map/map_block.h"
 #include "insertion/classify_points.h"
-#include "ndtom/map/cell_stats.h"
 #include "insertion/ray_ends.h"
 #include "insertion/scan_context.h"
+#include "map/map_block.h"
+#include "ndtom/map/cell_stats.h"
 
 namespace ndtom {
 

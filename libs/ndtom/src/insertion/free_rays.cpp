@@ -44,8 +44,7 @@ struct Rays {
 
 // Summed ray length (L1, what a walk costs) up to the end of each of the scan's pieces of rays:
 // [piece + 1], with [0] = 0.
-std::vector<double> cumulativeRayLength(const ScanContext& scan, const Rays& rays,
-                                        size_t threads) {
+std::vector<double> cumulativeRayLength(const ScanContext& scan, const Rays& rays, size_t threads) {
   constexpr size_t kPieces = ClassifiedPoints::kRayPieces;
   std::vector<double> cost(kPieces + 1, 0.0);
   if (rays.per_point) {
@@ -88,8 +87,8 @@ std::vector<size_t> rayRanges(const ScanContext& scan, const ScanPart* part, con
   bounds[0] = rank == 0 ? 0 : itemAt(double(rank) * share);
   bounds[threads] = rank + 1 == ranks ? items : itemAt(double(rank + 1) * share);
   for (size_t t = 1; t < threads; ++t)
-    bounds[t] = std::clamp(itemAt((double(rank) + double(t) / double(threads)) * share),
-                           bounds[0], bounds[threads]);
+    bounds[t] = std::clamp(itemAt((double(rank) + double(t) / double(threads)) * share), bounds[0],
+                           bounds[threads]);
   return bounds;
 }
 
@@ -106,8 +105,7 @@ std::optional<TileOwnerTable> ownerTableFor(const ScanContext& scan, const ScanP
 // Walks the rays on `threads` threads into out.tables[t]; a thread done with its own range
 // helps with the others' (a ray's cost is only roughly its length). Returns the cells visited.
 size_t walkOnThreads(const ScanContext& scan, const Rays& rays, const std::vector<size_t>& bounds,
-                     const std::optional<TileOwnerTable>& tiles, size_t threads,
-                     FreeCounts& out) {
+                     const std::optional<TileOwnerTable>& tiles, size_t threads, FreeCounts& out) {
   struct alignas(64) Cursor {  // the next ray of a range; own cache line
     std::atomic<size_t> next{0};
   };

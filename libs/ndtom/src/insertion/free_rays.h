@@ -7,10 +7,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "insertion/scan_counts.h"
 #include "insertion/classify_points.h"
 #include "insertion/end_groups.h"
 #include "insertion/scan_context.h"
+#include "insertion/scan_counts.h"
 #include "insertion/scan_part.h"
 
 namespace ndtom {

@@ -6,9 +6,9 @@
 #include <string>
 #include <unordered_map>
 
-#include "support/radix_sort.h"
-#include "partition/tile_owner_table.h"
 #include "ndtom/map/tile_index.h"
+#include "partition/tile_owner_table.h"
+#include "support/radix_sort.h"
 
 namespace ndtom {
 

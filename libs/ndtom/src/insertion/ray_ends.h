@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "insertion/classify_points.h"
-#include "ndtom/map/block_grid.h"
 #include "insertion/scan_context.h"
+#include "ndtom/map/block_grid.h"
 #include "ndtom/partition/tile_ownership.h"
 
 namespace ndtom {

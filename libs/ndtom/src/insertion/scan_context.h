@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cstddef>
 
-#include "support/parallel.h"
 #include "ndtom/map/cell_index.h"
 #include "ndtom/map/options.h"
+#include "support/parallel.h"
 
 namespace ndtom {
 

@@ -6,13 +6,13 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "support/elapsed.h"
 #include "localization/ground_columns.h"
-#include "support/option_error.h"
-#include "support/parallel.h"
 #include "registration/ndt_objective.h"
 #include "registration/scan_levels.h"
 #include "registration/usable_points.h"
+#include "support/elapsed.h"
+#include "support/option_error.h"
+#include "support/parallel.h"
 
 namespace ndtom {
 namespace {
@@ -31,8 +31,8 @@ struct Hypothesis {
 /// The scan's points registration would use; throws if none.
 std::vector<Eigen::Vector3d> usableScan(const std::vector<Eigen::Vector3d>& scan,
                                         const RegistrationOptions& o, const NdtMap& map) {
-  std::vector<Eigen::Vector3d> usable = registration::usablePoints(
-      scan, o.min_range, o.max_range, map.geometry().resolution());
+  std::vector<Eigen::Vector3d> usable =
+      registration::usablePoints(scan, o.min_range, o.max_range, map.geometry().resolution());
   if (usable.empty())
     throw std::invalid_argument("global localization: the scan has no usable point");
   return usable;
@@ -62,8 +62,8 @@ std::vector<Hypothesis> scoreHypotheses(const NdtMap& map, const std::vector<Eig
       buildScanLevels(usableScan(scan, ro, map), {pyramid->resolution(level)}, scoring,
                       map.options().regularization);
   const NdtObjective objective(pyramid->level(level), scan_levels[0], RegistrationMethod::P2D,
-                               scoreConstants(pyramid->resolution(level), ro.outlier_ratio),
-                               pool, 1);
+                               scoreConstants(pyramid->resolution(level), ro.outlier_ratio), pool,
+                               1);
   std::vector<Hypothesis> hypotheses(poses.size());
   const size_t threads = size_t(ro.threads);
   pool.run(threads, [&](size_t t) {

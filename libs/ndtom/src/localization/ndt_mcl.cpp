@@ -2,8 +2,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "map/map_block.h"
 #include "ndtom/map/cell_rules.h"
 #include "ndtom/map/map_queries.h"
-#include "map/map_block.h"
 
 namespace ndtom {
 

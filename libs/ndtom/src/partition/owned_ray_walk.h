@@ -11,9 +11,9 @@
 #include <cstring>
 #include <limits>
 
-#include "partition/tile_owner_table.h"
 #include "map/ray_dda.h"
 #include "ndtom/partition/tile_ownership.h"
+#include "partition/tile_owner_table.h"
 
 namespace ndtom {
 

@@ -19,7 +19,8 @@ class TileOwnerTable {
   /// A table for the tiles of the cells in [cells_lo, cells_hi] and one tile around them (a
   /// ray's walk at the scale of tiles may step one past its end within rounding); tiles
   /// outside are hashed. No table if the box holds more than 2^20 tiles.
-  TileOwnerTable(const TileOwnership& ownership, const CellIndex& cells_lo, const CellIndex& cells_hi)
+  TileOwnerTable(const TileOwnership& ownership, const CellIndex& cells_lo,
+                 const CellIndex& cells_hi)
       : ownership_(ownership) {
     setEdge();
     const CellIndex lo = tileOf(cells_lo), hi = tileOf(cells_hi);

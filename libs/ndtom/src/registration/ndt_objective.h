@@ -5,11 +5,11 @@
 
 #include <Eigen/Geometry>
 
-#include "support/parallel.h"
 #include "ndtom/matching/gaussian_lookup.h"
 #include "ndtom/registration/registration.h"
 #include "registration/scan_levels.h"
 #include "registration/score_constants.h"
+#include "support/parallel.h"
 
 namespace ndtom::registration {
 

@@ -8,14 +8,14 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "support/elapsed.h"
-#include "support/option_error.h"
-#include "support/parallel.h"
 #include "registration/ndt_objective.h"
 #include "registration/newton_search.h"
 #include "registration/scan_levels.h"
 #include "registration/usable_points.h"
 #include "registration/verdict.h"
+#include "support/elapsed.h"
+#include "support/option_error.h"
+#include "support/parallel.h"
 
 namespace ndtom {
 namespace {
@@ -169,8 +169,8 @@ struct NdtRegistration::State {
         registration::usablePoints(scan, o.min_range, o.max_range, finest_voxel);
     if (points.empty())
       throw std::invalid_argument("registration: the scan has no finite point within [" +
-                                  std::to_string(o.min_range) + ", " +
-                                  std::to_string(o.max_range) + "] m of the sensor");
+                                  std::to_string(o.min_range) + ", " + std::to_string(o.max_range) +
+                                  "] m of the sensor");
     const uint64_t key = scanKey(points, resolutions, o, map.options().regularization);
     if (key != scan_key || levels.empty()) {
       levels = registration::buildScanLevels(points, resolutions, o, map.options().regularization);

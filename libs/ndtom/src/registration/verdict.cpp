@@ -68,8 +68,8 @@ std::string verdict(const LevelReport& finest, double free_fraction, bool constr
   if (!finest.converged) {
     why << "the finest level did not converge in " << o.max_iterations << " iterations";
   } else if (finest.matched_fraction < o.min_matched_fraction) {
-    why << "only " << finest.matched_fraction << " of the scan matched the map (min_matched_fraction "
-        << o.min_matched_fraction << ")";
+    why << "only " << finest.matched_fraction
+        << " of the scan matched the map (min_matched_fraction " << o.min_matched_fraction << ")";
   } else if (free_fraction > o.max_free_fraction) {
     why << free_fraction << " of the scan lies in open space the map has seen free "
         << "(max_free_fraction " << o.max_free_fraction << ")";

@@ -22,7 +22,8 @@ Blocks::iterator moveBlock(NdtMap& from, Blocks::iterator it, NdtMap& to) {
 
 void finishExtraction(NdtMap& from, NdtMap& out) {
   if (out.numBlocks() == 0) return;
-  MapInternals::grid(from).blocks().rehash(0);  // the buckets of the blocks that left are memory too
+  // The buckets of the blocks that left are memory too.
+  MapInternals::grid(from).blocks().rehash(0);
   MapInternals::touch(from);
   MapInternals::touch(out);
 }

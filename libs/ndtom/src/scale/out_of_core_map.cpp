@@ -1,4 +1,3 @@
-#include "ndtom/scale/block_moves.h"
 #include "ndtom/scale/out_of_core_map.h"
 
 #include <algorithm>
@@ -8,9 +7,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "ndtom/map/block_grid.h"
-#include "ndtom_internal/input_file.h"
 #include "ndtom/files/map_io.h"
+#include "ndtom/map/block_grid.h"
+#include "ndtom/scale/block_moves.h"
+#include "ndtom_internal/input_file.h"
 #include "scale/spill_codec.h"
 
 namespace ndtom {

@@ -24,8 +24,8 @@
 #include <string>
 #include <vector>
 
-#include "ndtom/map/cell_index.h"
 #include "ndtom/files/map_io.h"
+#include "ndtom/map/cell_index.h"
 #include "ndtom/map/ndt_map.h"
 #include "ndtom/map/tile_index.h"
 

@@ -58,7 +58,7 @@ struct GlobalLocalizationResult {
   std::string failure;           ///< why not, if not found
   RegistrationResult best;       ///< the refined winner (its verdict: converged)
   GravityGuess gravity;
-  size_t ground_columns = 0;      ///< x, y cells of the map with ground (global search)
+  size_t ground_columns = 0;     ///< x, y cells of the map with ground (global search)
   size_t hypotheses = 0;         ///< scored
   size_t refined = 0;            ///< registered on the coarse levels from
   size_t distinct = 0;           ///< distinct poses among those that converged there

@@ -141,7 +141,7 @@ class NdtMap {
   /// statistics' mean is cell-centred. Returns whether the cell was unknown before. Throws,
   /// leaving the map unchanged, std::invalid_argument naming the problem if the cell breaks
   /// the rule of cell_rules.h (what saving writes and loading accepts), or MemoryBudgetError
-  /// if a new block would take the map over insertion.memory_budget.
+  /// if a new block would take the map over scan.memory_budget.
   bool setCell(const CellIndex& index, float logodds, const CellStats& stats);
   /// Frees the spare room setCell() leaves in the blocks' statistics arrays (they grow one
   /// cell at a time); loaders and the map algebra call it when done.

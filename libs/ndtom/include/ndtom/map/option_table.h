@@ -139,9 +139,9 @@ inline constexpr std::array<OptionRow, 13> kMapOptionRows = {{
     optionRow<&MapOptions::occupancy, &OccupancyOptions::logodds_max>(
         "logodds_max", "", OptionType::Real, OptionScope::Map, {0, kInf, true, true},
         "Upper log-odds clamp"),
-    optionRow<&MapOptions::scan, &ScanOptions::min_range>(
-        "min_range", "m", OptionType::Real, OptionScope::Map, {0, kInf, false, true},
-        "Closer points are dropped"),
+    optionRow<&MapOptions::scan, &ScanOptions::min_range>("min_range", "m", OptionType::Real,
+                                                          OptionScope::Map, {0, kInf, false, true},
+                                                          "Closer points are dropped"),
     optionRow<&MapOptions::scan, &ScanOptions::max_range>(
         "max_range", "m", OptionType::Real, OptionScope::Map, {0, kInf, true, false},
         "Farther points: free ray up to here, no hit (inf: no limit)"),

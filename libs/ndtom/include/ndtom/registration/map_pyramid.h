@@ -8,8 +8,8 @@
 #include <memory>
 #include <vector>
 
-#include "ndtom/matching/gaussian_lookup.h"
 #include "ndtom/map/ndt_map.h"
+#include "ndtom/matching/gaussian_lookup.h"
 
 namespace ndtom {
 

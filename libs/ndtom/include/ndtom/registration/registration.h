@@ -15,15 +15,15 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <cstdint>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "ndtom/registration/map_pyramid.h"
 #include "ndtom/map/ndt_map.h"
+#include "ndtom/registration/map_pyramid.h"
 
 namespace ndtom {
 

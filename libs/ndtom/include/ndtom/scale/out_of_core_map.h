@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "ndtom/map/ndt_map.h"
 #include "ndtom/files/tiled_map_io.h"
+#include "ndtom/map/ndt_map.h"
 
 namespace ndtom {
 
