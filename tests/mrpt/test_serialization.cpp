@@ -35,7 +35,7 @@ std::vector<Vector3d> randomScan(unsigned seed) {
 CNDTOccupancyMap::Ptr sampleMap() {
   auto map = CNDTOccupancyMap::Create(0.3);
   map->insertionOptions.occupancy.p_hit = 0.65;
-  map->insertionOptions.insertion.threads = 3;
+  map->insertionOptions.scan.threads = 3;
   map->likelihoodOptions.decimation = 3;
   map->likelihoodOptions.likelihood_method = CNDTOccupancyMap::TLikelihoodMethod::NdtMcl;
   map->likelihoodOptions.ndt_mcl_scan_factor = 4;
@@ -94,7 +94,7 @@ TEST(Serialization, ArchiveRoundTripIsExact) {
   const auto copy = roundTrip(*map);
   ASSERT_TRUE(copy);
   expectSameMaps(*map, *copy);
-  EXPECT_EQ(copy->insertionOptions.insertion.threads, 3);
+  EXPECT_EQ(copy->insertionOptions.scan.threads, 3);
   // And it still works: same likelihood-relevant content, can take more data.
   copy->insertPoints(randomScan(9), Vector3d::Zero());
   EXPECT_GT(copy->ndtMap().numCells(), 0u);
@@ -358,19 +358,19 @@ TEST(Serialization, ArchiveOfThePreviousVersionLoadsWithOneThread) {
   ASSERT_EQ(old[insertion], 0) << "insertion options version";
 
   CNDTOccupancyMap map(0.5);
-  map.insertionOptions.insertion.threads = 4;
+  map.insertionOptions.scan.threads = 4;
   ASSERT_EQ(readInto(map, old), "");
   const auto& o = map.insertionOptions;
-  EXPECT_EQ(o.insertion.threads, 1);
+  EXPECT_EQ(o.scan.threads, 1);
   EXPECT_EQ(o.resolution, 1.0);
   EXPECT_TRUE(o.occupancy.enabled);
   EXPECT_EQ(o.occupancy.p_hit, 0.65);
   EXPECT_EQ(o.occupancy.p_miss, 0.45);
   EXPECT_EQ(o.occupancy.logodds_min, -2.5);
   EXPECT_EQ(o.occupancy.logodds_max, 3.0);
-  EXPECT_EQ(o.insertion.min_range, 0.6);
-  EXPECT_EQ(o.insertion.max_range, 8.0);
-  EXPECT_EQ(o.insertion.ray_mode, ndtom::RayMode::PerHitCell);
+  EXPECT_EQ(o.scan.min_range, 0.6);
+  EXPECT_EQ(o.scan.max_range, 8.0);
+  EXPECT_EQ(o.scan.ray_mode, ndtom::RayMode::PerHitCell);
   EXPECT_EQ(o.decimation, 2u);
   EXPECT_EQ(o.decimation_3d_range, 3u);
   EXPECT_EQ(o.regularization.min_eigen_ratio, 0.02);
@@ -452,8 +452,8 @@ TEST(Serialization, HandMadeVersion0ArchiveLoadsWithOneThread) {
            v0.begin() + long(a.insertion + kThreadsInInsertionOptions + 4));
   CNDTOccupancyMap map;
   ASSERT_EQ(readInto(map, v0), "");
-  EXPECT_EQ(map.insertionOptions.insertion.threads, 1);
-  map.insertionOptions.insertion.threads = 3;
+  EXPECT_EQ(map.insertionOptions.scan.threads, 1);
+  map.insertionOptions.scan.threads = 3;
   expectSameMaps(*a.map, map);
 }
 
