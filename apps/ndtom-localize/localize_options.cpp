@@ -38,7 +38,7 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
       {"-o", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
       {"--output", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
       {"--format",
-       {true, [](O& o, const std::string& v) { o.format = mapper::inputFormatFromName(v); }}},
+       {true, [](O& o, const std::string& v) { o.format = apps::inputFormatFromName(v); }}},
       {"--poses", {true, [](O& o, const std::string& v) { o.poses_file = v; }}},
       {"--pose-format",
        {true, [](O& o, const std::string& v) { o.pose_format = poseFormatFromName("--pose-format", v); }}},

@@ -1,23 +1,23 @@
 // ndtom-localize: the pose of every scan of a log in a saved NDT-OM, by NDT scan-to-map
 // registration. Exit code 0 on success, 1 for bad input data or a failed write, 2 for a bad
 // command line.
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <optional>
 
 #include "localize_options.h"
 #include "localize_outputs.h"
 #include "map_file.h"
-#include "region_map.h"
 #include "ndtom/map_queries.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/run_program.h"
+#include "ndtom_apps/trajectory_poses.h"
+#include "region_map.h"
 #include "tracking.h"
-#include "trajectory_poses.h"
 
 using namespace ndtom::localizer;
-using ndtom::mapper::InputError;
+using ndtom::apps::InputError;
 
 namespace {
 
@@ -34,7 +34,7 @@ bool hasOccupiedGaussian(const ndtom::NdtMap& map) {
 
 int run(const LocalizeOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  ndtom::mapper::SourceSettings settings;
+  ndtom::apps::SourceSettings settings;
   settings.input = o.input;
   settings.format = o.format;
   settings.poses_file = o.poses_file;
@@ -43,8 +43,8 @@ int run(const LocalizeOptions& o) {
   settings.max_scans = o.max_scans == 0 ? 0 : o.skip + o.max_scans;
   settings.pose_time_tolerance = o.pose_time_tolerance;
   settings.poses_optional = true;
-  auto source = ndtom::mapper::openScanSource(settings);
-  ndtom::mapper::OutputFiles out(o.prefix);
+  auto source = ndtom::apps::openScanSource(settings);
+  ndtom::apps::OutputFiles out(o.prefix);
 
   const auto load_start = std::chrono::steady_clock::now();
   // A tiled map is held in part, around the robot; any other map whole.
@@ -68,7 +68,7 @@ int run(const LocalizeOptions& o) {
   const double load_seconds = secondsSince(load_start);
   if (!o.quiet) std::fprintf(stderr, "ndtom-localize: %s\n", source->description().c_str());
 
-  std::optional<ndtom::mapper::TrajectoryPoses> reference;
+  std::optional<ndtom::apps::TrajectoryPoses> reference;
   if (!o.reference_file.empty())
     reference.emplace(o.reference_file, o.reference_format, o.reference_time_tolerance);
   const ReferenceLookup lookup = [&](size_t index,

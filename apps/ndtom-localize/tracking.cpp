@@ -10,7 +10,7 @@ namespace ndtom::localizer {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using PoseKind = mapper::Scan::PoseKind;
+using PoseKind = apps::Scan::PoseKind;
 
 // The scan's pose from the first registration start that converges, or nothing.
 // Every attempt runs the whole pyramid: starting the prediction's registration on the fine
@@ -30,8 +30,8 @@ class Tracker {
         motion_(settings.initial.value_or(Eigen::Isometry3d::Identity())),
         localized_(settings.initial.has_value()) {}
 
-  void localize(const mapper::Scan& scan, ScanRecord& record, TrackingResult& totals) {
-    const std::vector<Eigen::Vector3d> points = mapper::pointsInFrame(scan);
+  void localize(const apps::Scan& scan, ScanRecord& record, TrackingResult& totals) {
+    const std::vector<Eigen::Vector3d> points = apps::pointsInFrame(scan);
     record.points = points.size();
     const bool search_everywhere =
         !localized_ || settings_.global_every_scan ||
@@ -64,7 +64,7 @@ class Tracker {
   }
 
  private:
-  Eigen::Isometry3d predict(const mapper::Scan& scan) const {
+  Eigen::Isometry3d predict(const apps::Scan& scan) const {
     if (scan.pose_kind == PoseKind::Odometry && last_odometry_)
       return motion_.lastPose() * (last_odometry_->inverse() * scan.frame_pose);
     return motion_.predict(scan.time);
@@ -154,7 +154,7 @@ size_t TrackingResult::count(Outcome outcome) const {
   return n;
 }
 
-TrackingResult track(const ndtom::NdtMap& map, mapper::ScanSource& source,
+TrackingResult track(const ndtom::NdtMap& map, apps::ScanSource& source,
                      const TrackingSettings& settings, const ReferenceLookup& reference,
                      apps::Progress& progress, size_t already_read) {
   const auto start = Clock::now();

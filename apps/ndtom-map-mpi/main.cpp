@@ -9,24 +9,25 @@
 #include <cstdio>
 #include <optional>
 
-#include "json_writer.h"
 #include "map_gather.h"
-#include "map_outputs.h"
 #include "mpi_count_exchange.h"
 #include "mpi_options.h"
+#include "ndtom_apps/height_colors.h"
+#include "ndtom_apps/json_writer.h"
+#include "ndtom_apps/map_outputs.h"
 #include "ndtom_apps/motion_gate.h"
+#include "ndtom_apps/oblique_view.h"
 #include "ndtom_apps/option_values.h"
+#include "ndtom_apps/output_files.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"
-#include "oblique_view.h"
-#include "output_files.h"
-#include "height_colors.h"
+#include "ndtom_apps/settings_from_options.h"
+#include "ndtom_apps/stage_times.h"
 #include "scan_feed.h"
-#include "settings_from_options.h"
-#include "stage_times.h"
 
 using namespace ndtom::mapper;
+namespace apps = ndtom::apps;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -48,7 +49,7 @@ struct RankFigures {
 std::string distributedJson(const MpiOptions& o, int ranks, const std::vector<RankFigures>& r,
                             uint64_t bytes_broadcast, size_t scans, double gather_s,
                             double total_s) {
-  JsonWriter json;
+  apps::JsonWriter json;
   json.beginObject();
   json.field("program", "ndtom-map-mpi");
   json.field("ranks", ranks);
@@ -83,10 +84,10 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
   const MapperOptions& o = mo.map;
-  const SourceSettings settings = sourceSettingsFor(o, insertion);
-  std::unique_ptr<ScanSource> source;
-  if (mo.scan_input == ScanInput::EachReads || rank == 0) source = openScanSource(settings);
-  std::optional<OutputFiles> out;
+  const apps::SourceSettings settings = sourceSettingsFor(o, insertion);
+  std::unique_ptr<apps::ScanSource> source;
+  if (mo.scan_input == ScanInput::EachReads || rank == 0) source = apps::openScanSource(settings);
+  std::optional<apps::OutputFiles> out;
   if (rank == 0) out.emplace(o.prefix);
   const bool talk = rank == 0 && !o.quiet;
   if (talk)
@@ -123,7 +124,7 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
                                             exchange)
                       : part.insertScanPart(scan->points_world, scan->sensor_origin, insert, owned);
       } catch (const std::invalid_argument& e) {
-        throw InputError(scan->name + ": " + e.what());
+        throw apps::InputError(scan->name + ": " + e.what());
       }
       mine.insert_s += secondsSince(t);
       sensor_path.push_back(scan->sensor_origin);
@@ -147,14 +148,14 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   if (rank != 0) return 0;
 
   if (points.pointsUsed() == 0)
-    throw InputError(o.input + ": no usable point in " + std::to_string(done) + " scans");
-  StageTimes times(start);
+    throw apps::InputError(o.input + ": no usable point in " + std::to_string(done) + " scans");
+  apps::StageTimes times(start);
   times.add("read+insert", mine.loop_s);
   times.add("gather", gather_s);
   mrpt_ndtom::CNDTOccupancyMap mrpt_map(insertion.resolution);
   mrpt_map.insertionOptions = insertion;
   mrpt_map.renderOptions =
-      renderOptionsFor(map, heightScaleOf(map), o.max_ellipsoids, o.ellipsoid_detail);
+      apps::renderOptionsFor(map, apps::heightScaleOf(map), o.max_ellipsoids, o.ellipsoid_detail);
   mrpt_map.setNdtMap(std::move(map));
   const OutputSettings output_settings = outputSettingsFor(o, insertion);
   writeMapOutputs(mrpt_map, sensor_path, output_settings, *out, times);
@@ -168,7 +169,7 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
     std::printf("ndtom-map-mpi: %zu scans on %d processes: scan loop %.2f s (slowest process), "
                 "gather %.2f s, total %.2f s; %zu cells\n",
                 done, ranks, slowest, gather_s, total_s, mrpt_map.ndtMap().numCells());
-    for (const WrittenFile& f : out->files()) std::printf("  %s\n", f.path.c_str());
+    for (const apps::WrittenFile& f : out->files()) std::printf("  %s\n", f.path.c_str());
   }
   return 0;
 }

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "mapper_options.h"
+#include "ndtom_apps/mapper_options.h"
 #include "scan_feed.h"
 
 namespace ndtom::mapper {

@@ -19,9 +19,10 @@
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"
-#include "settings_from_options.h"
+#include "ndtom_apps/settings_from_options.h"
 
 using namespace ndtom::mapper;
+namespace apps = ndtom::apps;
 
 namespace {
 
@@ -55,7 +56,7 @@ class CountedPort : public ndtom::CountExchange {
 
 // Every rank's part of the map from every scan, the ranks sharing the rays out: one thread
 // each, as they must trade counts scan by scan.
-std::vector<Share> insertSharedRays(const std::vector<Scan>& scans,
+std::vector<Share> insertSharedRays(const std::vector<apps::Scan>& scans,
                                     const ndtom::MapOptions& options,
                                     const ndtom::InsertOptions& insert, int rank_tiles, int ranks) {
   ndtom::ThreadCountExchange hub(ranks);
@@ -70,7 +71,7 @@ std::vector<Share> insertSharedRays(const std::vector<Scan>& scans,
         ndtom::NdtMap map(options);
         Share& s = shares[size_t(r)];
         const double start = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
-        for (const Scan& scan : scans)
+        for (const apps::Scan& scan : scans)
           s.visits += map.insertScanPart(scan.points_world, scan.sensor_origin, insert, owned, port)
                           .voxel_visits;
         s.cpu_s = cpuSeconds(CLOCK_THREAD_CPUTIME_ID) - start;
@@ -87,12 +88,12 @@ std::vector<Share> insertSharedRays(const std::vector<Scan>& scans,
 }
 
 // One rank's part of the map from every scan (ranks == 1 with the serial insertScan).
-Share insertShare(const std::vector<Scan>& scans, const ndtom::MapOptions& options,
+Share insertShare(const std::vector<apps::Scan>& scans, const ndtom::MapOptions& options,
                   const ndtom::InsertOptions& insert, const ndtom::TileOwnership& owned) {
   ndtom::NdtMap map(options);
   Share s;
   const double start = cpuSeconds();
-  for (const Scan& scan : scans) {
+  for (const apps::Scan& scan : scans) {
     const ndtom::InsertionReport r =
         owned.ranks == 1 ? map.insertScan(scan.points_world, scan.sensor_origin, insert)
                          : map.insertScanPart(scan.points_world, scan.sensor_origin, insert, owned);
@@ -119,8 +120,8 @@ int run(int argc, char** argv) {
     return 0;
   }
   const InsertionOptions insertion = resolveInsertionOptions(o.map.insertion);
-  auto source = openScanSource(sourceSettingsFor(o.map, insertion));
-  std::vector<Scan> scans;
+  auto source = apps::openScanSource(sourceSettingsFor(o.map, insertion));
+  std::vector<apps::Scan> scans;
   while (auto scan = source->next()) scans.push_back(std::move(*scan));
   const ndtom::MapOptions options = insertion.toMapOptions();
   ndtom::InsertOptions insert = options.insertion;
