@@ -1,10 +1,11 @@
-// The pieces of ndtom-map that decide what gets mapped: option layering (defaults < .ini file <
-// command line), trajectory matching, statistics and JSON text.
+// The pieces of ndtom-map that decide what gets mapped: the input's options, option layering
+// (defaults < .ini file < command line), trajectory matching, statistics and JSON text.
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <algorithm>
 
 #include "mapper_run.h"
+#include "ndtom_apps/input_format.h"
 #include "ndtom_apps/insertion_settings.h"
 #include "ndtom_apps/json_writer.h"
 #include "ndtom_apps/run_program.h"
@@ -22,6 +23,34 @@ TEST(ErrorMessages, OneLineOfAnMrptException) {
     THROW_EXCEPTION("[section] p_hit = 2: must be in (0.5, 1)");
   } catch (const std::exception& e) {
     EXPECT_EQ(ndtom::apps::oneLineMessage(e), "[section] p_hit = 2: must be in (0.5, 1)");
+  }
+}
+
+// The options ndtom-map and ndtom-localize name their input and outputs with.
+TEST(InputOptions, SetTheInputAndPrefix) {
+  struct Options {
+    std::string prefix, poses_file;
+    InputFormat format = InputFormat::Auto;
+    ndtom::io::PoseFormat pose_format = ndtom::io::PoseFormat::Auto;
+  };
+  const auto table = withInputOptions<Options>({});
+  const char* argv[] = {"program", "in",      "--output", "out",           "--format",
+                        "tum",     "--poses", "p.txt",    "--pose-format", "kitti"};
+  Options o;
+  EXPECT_EQ(applyArguments(10, argv, table, o), std::vector<std::string>{"in"});
+  EXPECT_EQ(o.prefix, "out");
+  EXPECT_EQ(o.format, InputFormat::TumRgbd);
+  EXPECT_EQ(o.poses_file, "p.txt");
+  EXPECT_EQ(o.pose_format, ndtom::io::PoseFormat::Kitti);
+  const char* short_prefix[] = {"program", "-o", "x"};
+  applyArguments(3, short_prefix, table, o);
+  EXPECT_EQ(o.prefix, "x");
+  EXPECT_EQ(poseFormatFromName("--reference-format", "tum"), ndtom::io::PoseFormat::Tum);
+  try {
+    poseFormatFromName("--pose-format", "kiti");
+    FAIL();
+  } catch (const UsageError& e) {
+    EXPECT_STREQ(e.what(), "--pose-format: expected auto, kitti or tum, got 'kiti'");
   }
 }
 

@@ -17,13 +17,6 @@ using apps::parseInteger;
 using apps::parseReal;
 using apps::UsageError;
 
-ndtom::io::PoseFormat poseFormatFromName(const std::string& name) {
-  if (name == "auto") return ndtom::io::PoseFormat::Auto;
-  if (name == "kitti") return ndtom::io::PoseFormat::Kitti;
-  if (name == "tum") return ndtom::io::PoseFormat::Tum;
-  throw UsageError("--pose-format: expected auto, kitti or tum, got '" + name + "'");
-}
-
 double positive(const std::string& option, const std::string& text) {
   const double v = parseReal(option, text);
   if (!(v > 0)) throw UsageError(option + " = " + text + ": must be > 0");
@@ -32,14 +25,7 @@ double positive(const std::string& option, const std::string& text) {
 
 const apps::OptionTable<MapperOptions>& optionTable() {
   using O = MapperOptions;
-  static const apps::OptionTable<MapperOptions> table = {
-      {"-o", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
-      {"--output", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
-      {"--format",
-       {true, [](O& o, const std::string& v) { o.format = apps::inputFormatFromName(v); }}},
-      {"--poses", {true, [](O& o, const std::string& v) { o.poses_file = v; }}},
-      {"--pose-format",
-       {true, [](O& o, const std::string& v) { o.pose_format = poseFormatFromName(v); }}},
+  static const auto table = apps::withHelpAndQuiet(apps::withInputOptions<O>({
       {"--pose-time-tolerance",
        {true,
         [](O& o, const std::string& v) {
@@ -106,11 +92,7 @@ const apps::OptionTable<MapperOptions>& optionTable() {
         [](O& o, const std::string& v) {
           o.ellipsoid_detail = int(parseInteger("--ellipsoid-detail", v, 0, 4));
         }}},
-      {"--quiet", {false, [](O& o, const std::string&) { o.quiet = true; }}},
-      {"-q", {false, [](O& o, const std::string&) { o.quiet = true; }}},
-      {"--help", {false, [](O& o, const std::string&) { o.help = true; }}},
-      {"-h", {false, [](O& o, const std::string&) { o.help = true; }}},
-  };
+  }));
   return table;
 }
 

@@ -59,6 +59,13 @@ const char* inputFormatName(InputFormat format) {
   return "unknown";
 }
 
+ndtom::io::PoseFormat poseFormatFromName(const std::string& option, const std::string& name) {
+  if (name == "auto") return ndtom::io::PoseFormat::Auto;
+  if (name == "kitti") return ndtom::io::PoseFormat::Kitti;
+  if (name == "tum") return ndtom::io::PoseFormat::Tum;
+  throw UsageError(option + ": expected auto, kitti or tum, got '" + name + "'");
+}
+
 InputFormat detectInputFormat(const std::string& path) {
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);

@@ -4,6 +4,9 @@
 
 #include <string>
 
+#include "ndtom_apps/command_line.h"
+#include "ndtom_io/pose_file.h"
+
 namespace ndtom::apps {
 
 enum class InputFormat {
@@ -17,6 +20,26 @@ enum class InputFormat {
 /// "rawlog", "simplemap", "tum", "pcd" (and "auto"); throws apps::UsageError otherwise.
 InputFormat inputFormatFromName(const std::string& name);
 const char* inputFormatName(InputFormat format);
+
+/// "auto", "kitti" or "tum", given with `option`; throws apps::UsageError otherwise.
+ndtom::io::PoseFormat poseFormatFromName(const std::string& option, const std::string& name);
+
+/// `table` and the options that name a program's input and outputs: -o/--output PREFIX,
+/// --format, --poses FILE, --pose-format (Options has prefix, format, poses_file and
+/// pose_format).
+template <typename Options>
+OptionTable<Options> withInputOptions(OptionTable<Options> table) {
+  const auto prefix = [](Options& o, const std::string& v) { o.prefix = v; };
+  table["-o"] = {true, prefix};
+  table["--output"] = {true, prefix};
+  table["--format"] = {true,
+                       [](Options& o, const std::string& v) { o.format = inputFormatFromName(v); }};
+  table["--poses"] = {true, [](Options& o, const std::string& v) { o.poses_file = v; }};
+  table["--pose-format"] = {true, [](Options& o, const std::string& v) {
+                              o.pose_format = poseFormatFromName("--pose-format", v);
+                            }};
+  return table;
+}
 
 /// The format of `path`: by extension for files (.rawlog[.gz], .simplemap[.gz]), by content
 /// for folders (associations.txt, depth.txt or groundtruth.txt: TUM; *.pcd files: PCD).
