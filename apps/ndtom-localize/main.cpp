@@ -10,6 +10,7 @@
 #include "localize_outputs.h"
 #include "map_file.h"
 #include "ndtom/map_queries.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_apps/trajectory_poses.h"
@@ -20,10 +21,6 @@ using namespace ndtom::localizer;
 using ndtom::apps::InputError;
 
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 bool hasOccupiedGaussian(const ndtom::NdtMap& map) {
   bool found = false;
@@ -65,7 +62,7 @@ int run(const LocalizeOptions& o) {
                        ": the map has no occupied cell with a Gaussian to localize in");
   }
   const ndtom::NdtMap& map = region ? region->map() : *whole;
-  const double load_seconds = secondsSince(load_start);
+  const double load_seconds = ndtom::apps::secondsSince(load_start);
   if (!o.quiet) std::fprintf(stderr, "ndtom-localize: %s\n", source->description().c_str());
 
   std::optional<ndtom::apps::TrajectoryPoses> reference;
@@ -132,7 +129,7 @@ int run(const LocalizeOptions& o) {
   summary.files = out.files();
   summary.files.push_back({"summary", o.prefix + ".summary.json"});
   summary.peak_rss = ndtom::apps::peakRssBytes();
-  summary.total_seconds = secondsSince(start);
+  summary.total_seconds = ndtom::apps::secondsSince(start);
   out.writeBytes("summary", ".summary.json", summaryJson(summary));
   out.commit();
   if (!o.quiet) std::fputs(summaryText(summary).c_str(), stdout);

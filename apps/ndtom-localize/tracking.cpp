@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "motion_prediction.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 
 namespace ndtom::localizer {
@@ -173,7 +174,7 @@ TrackingResult track(const ndtom::NdtMap& map, apps::ScanSource& source,
     else if (reference)
       record.reference = reference(record.index, record.time);
     tracker.localize(*scan, record, out);
-    record.seconds = std::chrono::duration<double>(Clock::now() - scan_start).count();
+    record.seconds = apps::secondsSince(scan_start);
     record.map_bytes = map.memoryBytes();
     record.rss_bytes = apps::currentRssBytes();
     points_done += record.points;
@@ -181,7 +182,7 @@ TrackingResult track(const ndtom::NdtMap& map, apps::ScanSource& source,
     progress.update(out.scans.size(), points_done);
   }
   progress.finish();
-  out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  out.seconds = apps::secondsSince(start);
   return out;
 }
 

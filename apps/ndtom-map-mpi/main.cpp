@@ -19,6 +19,7 @@
 #include "ndtom_apps/oblique_view.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/output_files.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"
@@ -31,10 +32,6 @@ namespace apps = ndtom::apps;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-double secondsSince(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 // What each process did, for the distributed block of the summary.
 struct RankFigures {
@@ -126,13 +123,13 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
       } catch (const std::invalid_argument& e) {
         throw apps::InputError(scan->name + ": " + e.what());
       }
-      mine.insert_s += secondsSince(t);
+      mine.insert_s += apps::secondsSince(t);
       sensor_path.push_back(scan->sensor_origin);
     }
     progress.update(done, points_read);
   }
   progress.finish();
-  mine.loop_s = secondsSince(loop_start);
+  mine.loop_s = apps::secondsSince(loop_start);
   mine.cells = double(part.numCells());
   mine.visits = double(points.voxel_visits);
   mine.bytes_exchanged = double(exchange.bytesSent());
@@ -140,7 +137,7 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   const auto gather_start = Clock::now();
   uint64_t sent = 0;
   ndtom::NdtMap map = gatherMap(std::move(part), comm, sent);
-  const double gather_s = secondsSince(gather_start);
+  const double gather_s = apps::secondsSince(gather_start);
   mine.bytes_sent = double(sent);
   std::vector<RankFigures> all(static_cast<size_t>(ranks));
   static_assert(sizeof(RankFigures) == 6 * sizeof(double));
@@ -159,7 +156,7 @@ int run(const MpiOptions& mo, const InsertionOptions& insertion, MPI_Comm comm) 
   mrpt_map.setNdtMap(std::move(map));
   const OutputSettings output_settings = outputSettingsFor(o, insertion);
   writeMapOutputs(mrpt_map, sensor_path, output_settings, *out, times);
-  const double total_s = secondsSince(start);
+  const double total_s = apps::secondsSince(start);
   out->writeBytes("distributed", ".mpi.json",
                   distributedJson(mo, ranks, all, feed.bytesBroadcast(), done, gather_s, total_s));
   out->commit();

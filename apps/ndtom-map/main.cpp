@@ -12,6 +12,7 @@
 #include "ndtom_apps/mapper_options.h"
 #include "ndtom_apps/oblique_view.h"
 #include "ndtom_apps/option_values.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_apps/scan_source.h"
@@ -44,8 +45,7 @@ RunSummary summarize(const MapperOptions& o, const apps::SourceSettings& setting
   summary.mapping = &mapping;
   summary.coarse = coarse;
   summary.peak_rss = ndtom::apps::peakRssBytes();
-  summary.total_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.total_seconds = apps::secondsSince(start);
   return summary;
 }
 

@@ -4,16 +4,13 @@
 #include <future>
 
 #include "ndtom/map_queries.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 
 namespace ndtom::mapper {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Adds what `map` holds to `r`.
 void countMap(const ndtom::NdtMap& map, PassResult& r) {
@@ -101,7 +98,7 @@ void insertAll(apps::ScanSource& source, const ndtom::InsertOptions& insert,
     } catch (const ndtom::MemoryBudgetError& e) {
       throw apps::InputError(scan->name + " in " + input + ": " + budgetMessage(e));
     }
-    result.insert_seconds.push_back(secondsSince(start));
+    result.insert_seconds.push_back(apps::secondsSince(start));
     if (first_pass) result.sensor_path.push_back(scan->sensor_origin);
     points += scan->points_world.size();
     progress.update(++done, points);
@@ -132,7 +129,7 @@ MappingResult buildMap(std::unique_ptr<apps::ScanSource> source,
     if (pass == 1) result.skips = source->skips();
     PassResult r = describeMap(result);
     r.scans = source->size();
-    r.seconds = secondsSince(start);
+    r.seconds = apps::secondsSince(start);
     result.passes.push_back(r);
   }
   return result;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 
 namespace ndtom::apps {
@@ -30,9 +31,7 @@ class StageTimes {
 
   /// A stage of `seconds` that ends now.
   void add(const std::string& stage, double seconds) {
-    stages_.push_back({stage, seconds,
-                       std::chrono::duration<double>(Clock::now() - origin_).count(),
-                       apps::peakRssBytes()});
+    stages_.push_back({stage, seconds, secondsSince(origin_), apps::peakRssBytes()});
   }
 
   /// Runs `f` and adds its wall time under `stage`; returns what f returns.
@@ -42,7 +41,7 @@ class StageTimes {
       StageTimes& times;
       const std::string& stage;
       Clock::time_point start = Clock::now();
-      ~Record() { times.add(stage, std::chrono::duration<double>(Clock::now() - start).count()); }
+      ~Record() { times.add(stage, secondsSince(start)); }
     } record{*this, stage};
     return f();
   }
