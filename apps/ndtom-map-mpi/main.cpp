@@ -11,11 +11,11 @@
 
 #include "map_gather.h"
 #include "mpi_count_exchange.h"
-#include "mpi_options.h"
 #include "ndtom_apps/height_colors.h"
 #include "ndtom_apps/json_writer.h"
 #include "ndtom_apps/map_outputs.h"
 #include "ndtom_apps/motion_gate.h"
+#include "ndtom_apps/mpi_options.h"
 #include "ndtom_apps/oblique_view.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/output_files.h"

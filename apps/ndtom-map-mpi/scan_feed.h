@@ -8,11 +8,10 @@
 #include <memory>
 #include <optional>
 
+#include "ndtom_apps/mpi_options.h"
 #include "ndtom_apps/scan_source.h"
 
 namespace ndtom::mapper {
-
-enum class ScanInput { EachReads, Broadcast };
 
 class ScanFeed {
  public:

@@ -1,4 +1,4 @@
-#include "mpi_options.h"
+#include "ndtom_apps/mpi_options.h"
 
 #include <vector>
 

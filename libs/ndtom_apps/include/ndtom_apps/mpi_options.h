@@ -1,13 +1,16 @@
 // The command line of ndtom-map-mpi: ndtom-map's options, plus how the processes share the
-// work.
+// work. ndtom-rank-model takes it too, and needs no MPI for it.
 #pragma once
 
 #include <string>
 
 #include "ndtom_apps/mapper_options.h"
-#include "scan_feed.h"
 
 namespace ndtom::mapper {
+
+/// Where the processes get the scans: each reads the input itself (a shared file system), or
+/// process 0 reads and broadcasts them.
+enum class ScanInput { EachReads, Broadcast };
 
 /// How the processes share a scan's free-space rays: each walks every ray's stretches
 /// through its own tiles (owned_ray_walk.h), or a share of the rays whole, trading counts

@@ -4,19 +4,18 @@
 // turn; with --ray-share rays the ranks run as threads trading counts through memory (each
 // thread's own CPU time), and the bytes each sends are counted. Network time is not part of
 // it. Writes PREFIX.rank-model.csv.
-#include <time.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <exception>
-#include <fstream>
-#include <numeric>
 #include <thread>
 #include <vector>
 
-#include "mpi_options.h"
 #include "ndtom/thread_count_exchange.h"
+#include "ndtom_apps/csv_table.h"
+#include "ndtom_apps/mpi_options.h"
 #include "ndtom_apps/option_values.h"
+#include "ndtom_apps/output_files.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_apps/settings_from_options.h"
@@ -25,12 +24,6 @@ using namespace ndtom::mapper;
 namespace apps = ndtom::apps;
 
 namespace {
-
-double cpuSeconds(clockid_t clock = CLOCK_PROCESS_CPUTIME_ID) {
-  timespec t{};
-  clock_gettime(clock, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
 
 struct Share {
   double cpu_s = 0;
@@ -70,11 +63,11 @@ std::vector<Share> insertSharedRays(const std::vector<apps::Scan>& scans,
         CountedPort port(hub.port(r));
         ndtom::NdtMap map(options);
         Share& s = shares[size_t(r)];
-        const double start = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
+        const double start = apps::threadCpuSeconds();
         for (const apps::Scan& scan : scans)
           s.visits += map.insertScanPart(scan.points_world, scan.sensor_origin, insert, owned, port)
                           .voxel_visits;
-        s.cpu_s = cpuSeconds(CLOCK_THREAD_CPUTIME_ID) - start;
+        s.cpu_s = apps::threadCpuSeconds() - start;
         s.cells = map.numCells();
         s.bytes_sent = port.bytes();
       } catch (...) {
@@ -92,75 +85,105 @@ Share insertShare(const std::vector<apps::Scan>& scans, const ndtom::MapOptions&
                   const ndtom::InsertOptions& insert, const ndtom::TileOwnership& owned) {
   ndtom::NdtMap map(options);
   Share s;
-  const double start = cpuSeconds();
+  const double start = apps::processCpuSeconds();
   for (const apps::Scan& scan : scans) {
     const ndtom::InsertionReport r =
         owned.ranks == 1 ? map.insertScan(scan.points_world, scan.sensor_origin, insert)
                          : map.insertScanPart(scan.points_world, scan.sensor_origin, insert, owned);
     s.visits += r.voxel_visits;
   }
-  s.cpu_s = cpuSeconds() - start;
+  s.cpu_s = apps::processCpuSeconds() - start;
   s.cells = map.numCells();
   return s;
 }
 
-int run(int argc, char** argv) {
-  std::vector<int64_t> ranks_list{1, 2, 4, 8, 16, 32, 64};
+struct RankModelOptions {
+  MpiOptions mpi;
+  std::vector<int64_t> ranks{1, 2, 4, 8, 16, 32, 64};
+};
+
+// --ranks, then ndtom-map-mpi's options.
+RankModelOptions parseRankModelOptions(int argc, char** argv) {
+  RankModelOptions o;
   std::vector<char*> rest;
   for (int i = 0; i < argc; ++i) {
     if (std::string(argv[i]) == "--ranks" && i + 1 < argc) {
-      ranks_list = ndtom::apps::parseIntegerList("--ranks", argv[++i], 1, 4096);
+      o.ranks = apps::parseIntegerList("--ranks", argv[++i], 1, 4096);
     } else {
       rest.push_back(argv[i]);
     }
   }
-  const MpiOptions o = parseMpiOptions(int(rest.size()), rest.data());
+  o.mpi = parseMpiOptions(int(rest.size()), rest.data());
+  return o;
+}
+
+std::vector<apps::Scan> readAllScans(const MapperOptions& o, const InsertionOptions& insertion) {
+  auto source = apps::openScanSource(sourceSettingsFor(o, insertion));
+  std::vector<apps::Scan> scans;
+  while (auto scan = source->next()) scans.push_back(std::move(*scan));
+  return scans;
+}
+
+// Every rank's share for `ranks` processes, the serial run standing for one.
+std::vector<Share> sharesOf(int ranks, const Share& serial, const std::vector<apps::Scan>& scans,
+                            const ndtom::MapOptions& options, const ndtom::InsertOptions& insert,
+                            const MpiOptions& o, apps::Progress& progress) {
+  if (ranks == 1) return {serial};
+  if (o.ray_share == RayShare::Rays)
+    return insertSharedRays(scans, options, insert, o.rank_tiles, ranks);
+  std::vector<Share> shares;
+  for (int r = 0; r < ranks; ++r) {
+    shares.push_back(insertShare(scans, options, insert, {o.rank_tiles, r, ranks}));
+    progress.update(size_t(r + 1));
+  }
+  return shares;
+}
+
+// One line of the table on stdout: the slowest and mean rank against the serial run.
+void printRanks(int ranks, const Share& serial, const std::vector<Share>& shares, size_t scans,
+                bool share_rays) {
+  double slowest = 0, sum = 0, bytes = 0;
+  for (const Share& s : shares)
+    slowest = std::max(slowest, s.cpu_s), sum += s.cpu_s, bytes += double(s.bytes_sent);
+  const double mean = sum / double(ranks);
+  std::printf("%6d %10.3f %10.3f %10.3f %8.3f %10.3f", ranks, serial.cpu_s, slowest, mean,
+              mean / slowest, serial.cpu_s / (double(ranks) * slowest));
+  if (share_rays)
+    std::printf("  %18.3f", scans == 0 ? 0.0 : bytes / double(ranks) / double(scans) / 1e6);
+  std::printf("\n");
+}
+
+int run(int argc, char** argv) {
+  const RankModelOptions ro = parseRankModelOptions(argc, argv);
+  const MpiOptions& o = ro.mpi;
   if (o.map.help) {
     std::puts("Usage: ndtom-rank-model INPUT -o PREFIX [--ranks 1,2,4,...] [ndtom-map-mpi options]");
     return 0;
   }
   const InsertionOptions insertion = resolveInsertionOptions(o.map.insertion);
-  auto source = apps::openScanSource(sourceSettingsFor(o.map, insertion));
-  std::vector<apps::Scan> scans;
-  while (auto scan = source->next()) scans.push_back(std::move(*scan));
+  apps::OutputFiles out(o.map.prefix);  // its folder made now, not after the work
+  const std::vector<apps::Scan> scans = readAllScans(o.map, insertion);
   const ndtom::MapOptions options = insertion.toMapOptions();
   ndtom::InsertOptions insert = options.insertion;
   insert.threads = 1;  // one core per process
 
   const Share serial = insertShare(scans, options, insert, {o.rank_tiles, 0, 1});
-  std::ofstream csv(o.map.prefix + ".rank-model.csv");
-  csv << "ranks,rank,cpu_s,cells,visits,bytes_sent\n";
   const bool share_rays = o.ray_share == RayShare::Rays;
   std::printf("%6s %10s %10s %10s %8s %10s%s\n", "ranks", "serial_s", "slowest_s", "mean_s",
               "balance", "efficiency", share_rays ? "  MB_sent/scan/rank" : "");
-  ndtom::apps::Progress progress(!o.map.quiet);
-  for (const int64_t n : ranks_list) {
-    std::vector<Share> shares;
+  apps::CsvTable csv({"ranks", "rank", "cpu_s", "cells", "visits", "bytes_sent"});
+  apps::Progress progress(!o.map.quiet);
+  for (const int64_t n : ro.ranks) {
     progress.start(std::to_string(n) + " ranks", size_t(n), "ranks");
-    if (n == 1) {
-      shares.push_back(serial);
-    } else if (share_rays) {
-      shares = insertSharedRays(scans, options, insert, o.rank_tiles, int(n));
-    } else {
-      for (int r = 0; r < n; ++r) {
-        shares.push_back(insertShare(scans, options, insert, {o.rank_tiles, r, int(n)}));
-        progress.update(size_t(r + 1));
-      }
-    }
+    const std::vector<Share> shares = sharesOf(int(n), serial, scans, options, insert, o, progress);
     progress.finish();
-    double slowest = 0, sum = 0, bytes = 0;
-    for (const Share& s : shares) {
-      csv << n << ',' << (&s - shares.data()) << ',' << s.cpu_s << ',' << s.cells << ',' << s.visits
-          << ',' << s.bytes_sent << '\n';
-      slowest = std::max(slowest, s.cpu_s), sum += s.cpu_s, bytes += double(s.bytes_sent);
-    }
-    const double mean = sum / double(n);
-    std::printf("%6lld %10.3f %10.3f %10.3f %8.3f %10.3f", (long long)n, serial.cpu_s, slowest,
-                mean, mean / slowest, serial.cpu_s / (double(n) * slowest));
-    if (share_rays)
-      std::printf("  %18.3f", scans.empty() ? 0.0 : bytes / double(n) / double(scans.size()) / 1e6);
-    std::printf("\n");
+    for (size_t r = 0; r < shares.size(); ++r)
+      csv.addRow({n, r, apps::CsvCell::formatted("%g", shares[r].cpu_s), shares[r].cells,
+                  shares[r].visits, shares[r].bytes_sent});
+    printRanks(int(n), serial, shares, scans.size(), share_rays);
   }
+  out.writeBytes("rank_model", ".rank-model.csv", csv.text());
+  out.commit();
   return 0;
 }
 
