@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "localize_accuracy.h"
+#include "ndtom_apps/csv_table.h"
 #include "ndtom_apps/height_colors.h"
 #include "ndtom_apps/json_writer.h"
 #include "ndtom_apps/png_bytes.h"
@@ -89,28 +90,27 @@ std::string trajectoryTum(const TrackingResult& tracking) {
 }
 
 std::string scansCsv(const TrackingResult& tracking) {
-  std::ostringstream s;
-  s << "index,time,outcome,found_by,registrations,x,y,z,qx,qy,qz,qw,error_m,error_deg,"
-       "matched_fraction,free_fraction,seconds,map_bytes,rss_bytes\n";
-  s << std::setprecision(9);
+  apps::CsvTable table({"index", "time", "outcome", "found_by", "registrations", "x", "y", "z",
+                        "qx", "qy", "qz", "qw", "error_m", "error_deg", "matched_fraction",
+                        "free_fraction", "seconds", "map_bytes", "rss_bytes"});
+  const auto g9 = [](double v) { return apps::CsvCell::formatted("%.9g", v); };
   for (const ScanRecord& r : tracking.scans) {
-    s << r.index << ',' << std::fixed << std::setprecision(6) << r.time << std::defaultfloat
-      << std::setprecision(9) << ',' << toString(r.outcome) << ',' << r.found_by << ','
-      << r.registrations;
+    std::vector<apps::CsvCell> row = {r.index, apps::CsvCell::formatted("%.6f", r.time),
+                                      toString(r.outcome), r.found_by, r.registrations};
     if (r.pose && r.outcome != Outcome::Lost) {
       const Eigen::Vector3d t = r.pose->translation();
       const Eigen::Quaterniond q(r.pose->linear());
-      for (const double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) s << ',' << v;
+      for (const double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) row.push_back(g9(v));
     } else {
-      s << ",,,,,,,";
+      row.insert(row.end(), 7, apps::CsvCell(""));
     }
     const auto e = errorOf(r);
-    s << ',' << (e ? std::to_string(e->translation) : "") << ','
-      << (e ? std::to_string(e->rotation) : "") << ',' << r.result.matched_fraction << ','
-      << r.result.free_fraction << ',' << r.seconds << ',' << r.map_bytes << ',' << r.rss_bytes
-      << '\n';
+    row.insert(row.end(), {e ? std::to_string(e->translation) : "",
+                           e ? std::to_string(e->rotation) : "", g9(r.result.matched_fraction),
+                           g9(r.result.free_fraction), g9(r.seconds), r.map_bytes, r.rss_bytes});
+    table.addRow(row);
   }
-  return s.str();
+  return table.text();
 }
 
 std::string summaryJson(const LocalizeSummary& s) {
