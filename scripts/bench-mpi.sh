@@ -52,7 +52,7 @@ ranks=doc/benchmarks/mpi-ranks.csv
 echo "# commit $commit; rank tiles $tiles; CPU seconds of each process's insertions" >"$ranks"
 for share in tiles rays; do
   echo "ray share: $share"
-  "$bin/ndtom-map-mpi/ndtom-rank-model" "$data" -o "$work/model" --resolution "$resolution" \
+  "$bin/ndtom-rank-model/ndtom-rank-model" "$data" -o "$work/model" --resolution "$resolution" \
     --max-range "$max_range" --rank-tiles "$tiles" --ray-share "$share" \
     --ranks 1,2,4,8,16,32,64 --quiet
   if [[ $share == tiles ]]; then

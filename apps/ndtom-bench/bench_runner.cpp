@@ -32,7 +32,7 @@ RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats,
       const double cpu_start = apps::processCpuSeconds();
       const auto start = Clock::now();
       system.insertScan(scan);
-      const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      const double seconds = apps::secondsSince(start);
       r.scan_cpu_seconds.push_back(apps::processCpuSeconds() - cpu_start);
       times.push_back(seconds);
       if (rep == 0) {
@@ -71,7 +71,7 @@ PairedSeconds runPaired(MappingSystem& first, MappingSystem& second, const ScanS
     system.prepareScan(scan);
     const auto start = Clock::now();
     system.insertScan(scan);
-    return std::chrono::duration<double>(Clock::now() - start).count();
+    return apps::secondsSince(start);
   };
   for (int rep = 0; rep < repeats; ++rep) {
     first.reset();

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <stdexcept>
+
+#include "ndtom_apps/csv_table.h"
 
 namespace ndtom::bench {
 
@@ -106,35 +107,77 @@ std::string comparisonTable(const std::vector<RunResult>& runs) {
 }
 
 void writeCsv(const std::string& path, const std::vector<RunResult>& runs) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("--csv " + path + ": cannot open for writing");
-  out << "dataset,system,threads,resolution_m,scans,repeats,median_ms,p95_ms,points_per_s,"
-         "voxel_visits_per_s,points,voxel_visits,peak_rss_delta_bytes,memory_bytes,cells,"
-         "bytes_per_cell,ratio_octomap,ratio_grid3d,repeat_median_min_ms,repeat_median_max_ms,"
-         "identical_to_t1,gaussians,occupancy_mismatch_vs_exact,similarity_vs_exact,cpu_per_wall,"
-         "median_cpu_ms,ratio_octomap_cpu,ratio_grid3d_cpu,speedup_vs_t1,speedup_vs_t1_side_by_"
-         "side\n";
+  apps::CsvTable table({"dataset",
+                        "system",
+                        "threads",
+                        "resolution_m",
+                        "scans",
+                        "repeats",
+                        "median_ms",
+                        "p95_ms",
+                        "points_per_s",
+                        "voxel_visits_per_s",
+                        "points",
+                        "voxel_visits",
+                        "peak_rss_delta_bytes",
+                        "memory_bytes",
+                        "cells",
+                        "bytes_per_cell",
+                        "ratio_octomap",
+                        "ratio_grid3d",
+                        "repeat_median_min_ms",
+                        "repeat_median_max_ms",
+                        "identical_to_t1",
+                        "gaussians",
+                        "occupancy_mismatch_vs_exact",
+                        "similarity_vs_exact",
+                        "cpu_per_wall",
+                        "median_cpu_ms",
+                        "ratio_octomap_cpu",
+                        "ratio_grid3d_cpu",
+                        "speedup_vs_t1",
+                        "speedup_vs_t1_side_by_side"});
+  const auto g = [](double v) { return apps::CsvCell::formatted("%g", v); };
   for (const RunResult& r : runs) {
     const auto [lo, hi] =
         std::minmax_element(r.repeat_median_seconds.begin(), r.repeat_median_seconds.end());
-    const auto o = timeRatio(runs, r, kOctomap), g = timeRatio(runs, r, kGrid3d);
-    out << r.dataset << ',' << r.label << ',' << r.threads << ',' << r.resolution << ','
-        << r.scan_seconds.size() / size_t(std::max(1, r.repeats)) << ',' << r.repeats << ','
-        << r.medianSeconds() * 1e3 << ',' << r.p95Seconds() * 1e3 << ',' << r.pointsPerSecond()
-        << ',' << r.visitsPerSecond() << ',' << r.points << ',' << r.voxel_visits << ','
-        << (r.peak_rss_valid ? std::to_string(r.peak_rss_delta) : "") << ',' << r.map.memory_bytes
-        << ',' << r.map.cells << ',' << r.bytesPerCell() << ',' << (o ? std::to_string(*o) : "")
-        << ',' << (g ? std::to_string(*g) : "") << ',' << *lo * 1e3 << ',' << *hi * 1e3 << ','
-        << (r.vs_one_thread ? (r.vs_one_thread->identical ? "1" : "0") : "") << ','
-        << (r.vs_exact ? std::to_string(r.vs_exact->gaussians_test) : "") << ','
-        << mismatchText(r.vs_exact) << ','
-        << (r.vs_exact && r.vs_exact->similarity ? std::to_string(*r.vs_exact->similarity) : "")
-        << ',' << r.cpuPerWall() << ',' << r.medianCpuSeconds() * 1e3 << ','
-        << optionalText(timeRatio(runs, r, kOctomap, true)) << ','
-        << optionalText(timeRatio(runs, r, kGrid3d, true)) << ','
-        << optionalText(oneThreadSpeedup(runs, r)) << ',' << optionalText(r.paired_speedup) << '\n';
+    const std::string identical = r.vs_one_thread ? (r.vs_one_thread->identical ? "1" : "0") : "";
+    table.addRow({r.dataset,
+                  r.label,
+                  r.threads,
+                  g(r.resolution),
+                  r.scan_seconds.size() / size_t(std::max(1, r.repeats)),
+                  r.repeats,
+                  g(r.medianSeconds() * 1e3),
+                  g(r.p95Seconds() * 1e3),
+                  g(r.pointsPerSecond()),
+                  g(r.visitsPerSecond()),
+                  size_t(r.points),
+                  size_t(r.voxel_visits),
+                  r.peak_rss_valid ? std::to_string(r.peak_rss_delta) : "",
+                  r.map.memory_bytes,
+                  r.map.cells,
+                  g(r.bytesPerCell()),
+                  optionalText(timeRatio(runs, r, kOctomap)),
+                  optionalText(timeRatio(runs, r, kGrid3d)),
+                  g(*lo * 1e3),
+                  g(*hi * 1e3),
+                  identical,
+                  r.vs_exact ? std::to_string(r.vs_exact->gaussians_test) : "",
+                  mismatchText(r.vs_exact),
+                  r.vs_exact ? optionalText(r.vs_exact->similarity) : "",
+                  g(r.cpuPerWall()),
+                  g(r.medianCpuSeconds() * 1e3),
+                  optionalText(timeRatio(runs, r, kOctomap, true)),
+                  optionalText(timeRatio(runs, r, kGrid3d, true)),
+                  optionalText(oneThreadSpeedup(runs, r)),
+                  optionalText(r.paired_speedup)});
   }
-  if (!out) throw std::runtime_error("--csv " + path + ": write failed");
+  try {
+    table.write(path);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("--csv: " + std::string(e.what()));
+  }
 }
 
 }  // namespace ndtom::bench

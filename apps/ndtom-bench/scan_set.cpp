@@ -4,8 +4,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "ndtom_io/pcd_reader.h"
-#include "ndtom_io/pose_file.h"
+#include "ndtom_io/scan_folder.h"
 
 namespace ndtom::bench {
 
@@ -33,36 +32,32 @@ ScanSet loadScanDirectory(const std::string& dir, int max_scans) {
   if (!fs::is_directory(dir))
     throw std::runtime_error("dataset " + dir +
                              ": not a directory (scripts/fetch-data.sh downloads the lidar scans)");
-  const std::vector<io::StampedPose> poses =
-      io::readPoseFile((fs::path(dir) / "poses.txt").string(), io::PoseFormat::Kitti);
-  size_t count = poses.size();
+  const io::ScanFolder folder(dir);
+  size_t count = folder.size();
   if (max_scans > 0) {
-    if (size_t(max_scans) > poses.size())
+    if (size_t(max_scans) > count)
       throw std::runtime_error("dataset " + dir + ": --scans " + std::to_string(max_scans) +
-                               " but poses.txt lists " + std::to_string(poses.size()));
+                               " but it has " + std::to_string(count));
     count = size_t(max_scans);
   }
-  if (count == 0) throw std::runtime_error("dataset " + dir + ": poses.txt lists no scan");
 
   ScanSet set;
   fs::path normal = fs::path(dir).lexically_normal();
   if (normal.filename().empty()) normal = normal.parent_path();  // "dir/" names "dir"
   set.name = normal.filename().string();
+  // NaN rows and zero rows (no return) would be rejected by some systems and crash others:
+  // drop them for everyone, and count them.
+  io::PointFilter no_returns;
+  no_returns.drop_non_finite = no_returns.drop_origin = true;
   for (size_t i = 0; i < count; ++i) {
-    const std::string file = (fs::path(dir) / ("full" + std::to_string(i) + ".pcd")).string();
-    const io::PointCloud cloud = io::readPcd(file);
+    io::DroppedPoints dropped;
+    const io::PointCloud cloud = folder.read(i, no_returns, &dropped);
+    set.dropped_points += dropped.invalid;
+    const Eigen::Isometry3d& pose = folder.poses()[i].pose;
     Scan scan;
-    scan.origin = poses[i].pose.translation();
+    scan.origin = pose.translation();
     scan.points.reserve(cloud.points.size());
-    for (const Eigen::Vector3d& p : cloud.points) {
-      // NaN rows and zero rows (no return) would be rejected by some systems and crash
-      // others: drop them for everyone, and count them.
-      if (!p.allFinite() || p.isZero(0.0)) {
-        ++set.dropped_points;
-        continue;
-      }
-      scan.points.push_back(poses[i].pose * p);
-    }
+    for (const Eigen::Vector3d& p : cloud.points) scan.points.push_back(pose * p);
     set.scans.push_back(std::move(scan));
   }
   return set;

@@ -35,9 +35,9 @@ struct Box {
 /// the region any of the systems can touch.
 Box rayBounds(const ScanSet& set, double max_range);
 
-/// Reads full<i>.pcd (sensor frame) and the KITTI poses.txt (sensor -> world) of `dir`,
-/// scans 0 .. max_scans-1 (all listed poses if max_scans is 0). Throws std::runtime_error
-/// with a one-line message naming the file on any problem.
+/// Reads the scans of `dir` (io::ScanFolder: *.pcd in the sensor frame, KITTI poses.txt),
+/// the first `max_scans` (all if 0). Throws std::runtime_error with a one-line message naming
+/// the file on any problem.
 ScanSet loadScanDirectory(const std::string& dir, int max_scans);
 
 }  // namespace ndtom::bench

@@ -3,22 +3,24 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "ndtom_io/pcd_reader.h"
-#include "ndtom_io/pose_file.h"
+#include "ndtom_io/scan_folder.h"
 #include "ndtom_io/tum_rgbd.h"
 
 namespace ndtom::eval {
 
 namespace {
 
-Cloud transformed(std::string name, const std::vector<Eigen::Vector3d>& sensor_points,
+// The finite points, in the world frame.
+Cloud transformed(std::string name, std::vector<Eigen::Vector3d> sensor_points,
                   const Eigen::Isometry3d& sensor_to_world) {
+  io::PointFilter finite;
+  finite.drop_non_finite = true;
+  io::filterPoints(sensor_points, finite);
   Cloud cloud;
   cloud.name = std::move(name);
   cloud.origin = sensor_to_world.translation();
   cloud.points.reserve(sensor_points.size());
-  for (const Eigen::Vector3d& p : sensor_points)
-    if (p.allFinite()) cloud.points.push_back(sensor_to_world * p);
+  for (const Eigen::Vector3d& p : sensor_points) cloud.points.push_back(sensor_to_world * p);
   return cloud;
 }
 
@@ -54,19 +56,15 @@ std::vector<Cloud> loadTumClouds(const std::string& folder, int max_frames, int 
 std::vector<Cloud> loadLidarClouds(const std::string& folder, int max_scans,
                                    const apps::MotionThresholds& motion, size_t* available) {
   requireFolder(folder, "lidar");
-  const std::string pose_path = folder + "/poses.txt";
-  if (!std::filesystem::exists(pose_path))
-    throw std::runtime_error("lidar folder " + folder + ": no poses.txt");
-  const auto poses = io::readPoseFile(pose_path, io::PoseFormat::Kitti);
-  if (poses.empty()) throw std::runtime_error(pose_path + ": no poses");
+  const io::ScanFolder scans(folder);
   std::vector<Cloud> clouds;
   apps::MotionGate gate(motion);
-  const size_t n = howMany(poses.size(), max_scans);
+  const size_t n = howMany(scans.size(), max_scans);
   if (available) *available = n;
   for (size_t i = 0; i < n; ++i) {
-    if (!gate.accept(poses[i].pose)) continue;
-    const std::string path = folder + "/full" + std::to_string(i) + ".pcd";
-    clouds.push_back(transformed(path, io::readPcd(path).points, poses[i].pose));
+    const Eigen::Isometry3d& pose = scans.poses()[i].pose;
+    if (!gate.accept(pose)) continue;
+    clouds.push_back(transformed(scans.path(i), scans.read(i).points, pose));
   }
   return clouds;
 }

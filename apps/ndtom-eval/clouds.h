@@ -19,10 +19,10 @@ struct Cloud {
 /// depth pixel, TUM's default intrinsics, ground-truth camera poses. Throws on bad data.
 std::vector<Cloud> loadTumClouds(const std::string& folder, int max_frames, int decimation);
 
-/// Scans full0.pcd, full1.pcd, ... with poses.txt (KITTI, sensor -> world): of the first
-/// `max_scans` (0 = as many as poses.txt has), those `motion` keeps (the paper's insertion
-/// rule; by default all). `available`: how many were considered. Throws if a listed scan is
-/// missing, naming scripts/fetch-data.sh when the folder is.
+/// The scans of a folder (io::ScanFolder: full0.pcd, full1.pcd, ... with a KITTI poses.txt):
+/// of the first `max_scans` (0 = all), those `motion` keeps (the paper's insertion rule; by
+/// default all). `available`: how many were considered. Throws on bad data, naming
+/// scripts/fetch-data.sh when the folder is missing.
 std::vector<Cloud> loadLidarClouds(const std::string& folder, int max_scans,
                                    const apps::MotionThresholds& motion = {},
                                    size_t* available = nullptr);

@@ -89,11 +89,11 @@ std::vector<Eigen::Vector3d> allPoints(const std::vector<Cloud>& clouds);
 
 }  // namespace ndtom::eval
 
-#include <chrono>
+#include "ndtom_apps/process_clock.h"
 
 template <class F>
 double ndtom::eval::timed(F&& f) {
   const auto start = std::chrono::steady_clock::now();
   f();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return apps::secondsSince(start);
 }

@@ -25,23 +25,9 @@ std::vector<int> parseLevels(const std::string& text) {
   return levels;
 }
 
-ndtom::io::PoseFormat poseFormatFromName(const std::string& option, const std::string& name) {
-  if (name == "auto") return ndtom::io::PoseFormat::Auto;
-  if (name == "kitti") return ndtom::io::PoseFormat::Kitti;
-  if (name == "tum") return ndtom::io::PoseFormat::Tum;
-  throw UsageError(option + ": expected auto, kitti or tum, got '" + name + "'");
-}
-
 const apps::OptionTable<LocalizeOptions>& optionTable() {
   using O = LocalizeOptions;
-  static const apps::OptionTable<LocalizeOptions> table = {
-      {"-o", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
-      {"--output", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
-      {"--format",
-       {true, [](O& o, const std::string& v) { o.format = mapper::inputFormatFromName(v); }}},
-      {"--poses", {true, [](O& o, const std::string& v) { o.poses_file = v; }}},
-      {"--pose-format",
-       {true, [](O& o, const std::string& v) { o.pose_format = poseFormatFromName("--pose-format", v); }}},
+  static const auto table = apps::withHelpAndQuiet(apps::withInputOptions<O>({
       {"--max-scans",
        {true,
         [](O& o, const std::string& v) {
@@ -92,7 +78,7 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
         }}},
       {"--reference", {true, [](O& o, const std::string& v) { o.reference_file = v; }}},
       {"--reference-format",
-       {true, [](O& o, const std::string& v) { o.reference_format = poseFormatFromName("--reference-format", v); }}},
+       {true, [](O& o, const std::string& v) { o.reference_format = apps::poseFormatFromName("--reference-format", v); }}},
       {"--method",
        {true,
         [](O& o, const std::string& v) {
@@ -147,11 +133,7 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
         [](O& o, const std::string& v) {
           o.image_width = int(parseInteger("--image-width", v, 400, 8000));
         }}},
-      {"--quiet", {false, [](O& o, const std::string&) { o.quiet = true; }}},
-      {"-q", {false, [](O& o, const std::string&) { o.quiet = true; }}},
-      {"--help", {false, [](O& o, const std::string&) { o.help = true; }}},
-      {"-h", {false, [](O& o, const std::string&) { o.help = true; }}},
-  };
+  }));
   return table;
 }
 

@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "input_format.h"
 #include "ndtom/registration/registration.h"
+#include "ndtom_apps/input_format.h"
 #include "ndtom_io/pose_file.h"
 #include "tracking.h"
 
@@ -17,7 +17,7 @@ struct LocalizeOptions {
   double region_radius = 60;  ///< m: tiles of a tiled map kept resident around the robot
   std::string input;
   std::string prefix;  ///< outputs are PREFIX.tum, PREFIX.summary.json, PREFIX.top.png
-  mapper::InputFormat format = mapper::InputFormat::Auto;
+  apps::InputFormat format = apps::InputFormat::Auto;
   std::string poses_file;  ///< the input's own poses (as ndtom-map reads them), if any
   ndtom::io::PoseFormat pose_format = ndtom::io::PoseFormat::Auto;
   double pose_time_tolerance = 0.02;

@@ -5,12 +5,13 @@
 #include <iomanip>
 #include <sstream>
 
-#include "height_colors.h"
-#include "json_writer.h"
 #include "localize_accuracy.h"
-#include "png_bytes.h"
-#include "run_summary.h"
-#include "top_view.h"
+#include "ndtom_apps/csv_table.h"
+#include "ndtom_apps/height_colors.h"
+#include "ndtom_apps/json_writer.h"
+#include "ndtom_apps/png_bytes.h"
+#include "ndtom_apps/statistics.h"
+#include "ndtom_apps/top_view.h"
 
 namespace ndtom::localizer {
 namespace {
@@ -27,7 +28,7 @@ cv::Scalar errorColour(double metres) {
   return f < 0.5 ? cv::Scalar(0, 170 + 170 * f, 510 * f) : cv::Scalar(0, 255 * (2 - 2 * f), 255);
 }
 
-void writePose(mapper::JsonWriter& j, const std::string& key, const Eigen::Isometry3d& pose) {
+void writePose(apps::JsonWriter& j, const std::string& key, const Eigen::Isometry3d& pose) {
   const Eigen::Vector3d t = pose.translation();
   const Eigen::Quaterniond q(pose.linear());
   j.beginArray(key);
@@ -35,7 +36,7 @@ void writePose(mapper::JsonWriter& j, const std::string& key, const Eigen::Isome
   j.endArray();
 }
 
-void writeScan(mapper::JsonWriter& j, const ScanRecord& r) {
+void writeScan(apps::JsonWriter& j, const ScanRecord& r) {
   j.beginObject();
   j.field("index", r.index);
   j.field("name", r.name);
@@ -89,28 +90,27 @@ std::string trajectoryTum(const TrackingResult& tracking) {
 }
 
 std::string scansCsv(const TrackingResult& tracking) {
-  std::ostringstream s;
-  s << "index,time,outcome,found_by,registrations,x,y,z,qx,qy,qz,qw,error_m,error_deg,"
-       "matched_fraction,free_fraction,seconds,map_bytes,rss_bytes\n";
-  s << std::setprecision(9);
+  apps::CsvTable table({"index", "time", "outcome", "found_by", "registrations", "x", "y", "z",
+                        "qx", "qy", "qz", "qw", "error_m", "error_deg", "matched_fraction",
+                        "free_fraction", "seconds", "map_bytes", "rss_bytes"});
+  const auto g9 = [](double v) { return apps::CsvCell::formatted("%.9g", v); };
   for (const ScanRecord& r : tracking.scans) {
-    s << r.index << ',' << std::fixed << std::setprecision(6) << r.time << std::defaultfloat
-      << std::setprecision(9) << ',' << toString(r.outcome) << ',' << r.found_by << ','
-      << r.registrations;
+    std::vector<apps::CsvCell> row = {r.index, apps::CsvCell::formatted("%.6f", r.time),
+                                      toString(r.outcome), r.found_by, r.registrations};
     if (r.pose && r.outcome != Outcome::Lost) {
       const Eigen::Vector3d t = r.pose->translation();
       const Eigen::Quaterniond q(r.pose->linear());
-      for (const double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) s << ',' << v;
+      for (const double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) row.push_back(g9(v));
     } else {
-      s << ",,,,,,,";
+      row.insert(row.end(), 7, apps::CsvCell(""));
     }
     const auto e = errorOf(r);
-    s << ',' << (e ? std::to_string(e->translation) : "") << ','
-      << (e ? std::to_string(e->rotation) : "") << ',' << r.result.matched_fraction << ','
-      << r.result.free_fraction << ',' << r.seconds << ',' << r.map_bytes << ',' << r.rss_bytes
-      << '\n';
+    row.insert(row.end(), {e ? std::to_string(e->translation) : "",
+                           e ? std::to_string(e->rotation) : "", g9(r.result.matched_fraction),
+                           g9(r.result.free_fraction), g9(r.seconds), r.map_bytes, r.rss_bytes});
+    table.addRow(row);
   }
-  return s.str();
+  return table.text();
 }
 
 std::string summaryJson(const LocalizeSummary& s) {
@@ -118,7 +118,7 @@ std::string summaryJson(const LocalizeSummary& s) {
   const TrackingResult& t = *s.tracking;
   const ndtom::RegistrationOptions& ro = o.tracking.registration;
   const std::vector<double> seconds = scanSeconds(t);
-  mapper::JsonWriter j;
+  apps::JsonWriter j;
   j.beginObject();
   j.field("map", o.map_path);
   j.field("map_resolution", s.map_resolution);
@@ -172,8 +172,8 @@ std::string summaryJson(const LocalizeSummary& s) {
     j.field("rotation_max_deg", a->rotation_max);
     j.endObject();
   }
-  j.field("scan_seconds_median", mapper::percentile(seconds, 0.5));
-  j.field("scan_seconds_p95", mapper::percentile(seconds, 0.95));
+  j.field("scan_seconds_median", apps::percentile(seconds, 0.5));
+  j.field("scan_seconds_p95", apps::percentile(seconds, 0.95));
   j.field("scans_per_second", t.seconds > 0 ? double(t.scans.size()) / t.seconds : 0.0);
   j.field("tracking_seconds", t.seconds);
   j.field("total_seconds", s.total_seconds);
@@ -208,8 +208,8 @@ std::string summaryText(const LocalizeSummary& s) {
         << a->rmse << " m, max " << a->max << " m; rotation RMSE " << a->rotation_rmse
         << " deg, max " << a->rotation_max << " deg\n";
   }
-  out << std::setprecision(2) << "per scan: median " << 1e3 * mapper::percentile(seconds, 0.5)
-      << " ms, p95 " << 1e3 * mapper::percentile(seconds, 0.95) << " ms; "
+  out << std::setprecision(2) << "per scan: median " << 1e3 * apps::percentile(seconds, 0.5)
+      << " ms, p95 " << 1e3 * apps::percentile(seconds, 0.95) << " ms; "
       << (t.seconds > 0 ? double(t.scans.size()) / t.seconds : 0.0) << " scans/s with reading; "
       << "total " << s.total_seconds << " s, peak memory " << double(s.peak_rss) / (1 << 20)
       << " MiB\n";
@@ -218,11 +218,11 @@ std::string summaryText(const LocalizeSummary& s) {
 }
 
 void writeTrajectoryOutputs(const ndtom::NdtMap& map, const TrackingResult& tracking,
-                            const LocalizeOptions& options, mapper::OutputFiles& out) {
+                            const LocalizeOptions& options, apps::OutputFiles& out) {
   out.writeBytes("trajectory", ".tum", trajectoryTum(tracking));
   out.writeBytes("scans", ".scans.csv", scansCsv(tracking));
   if (!options.pictures) return;
-  mapper::ColouredPath path;
+  apps::ColouredPath path;
   const bool errors = accuracyOf(tracking).has_value();
   for (const ScanRecord& r : tracking.scans) {
     if (r.reference) path.reference.push_back(r.reference->translation());
@@ -237,8 +237,8 @@ void writeTrajectoryOutputs(const ndtom::NdtMap& map, const TrackingResult& trac
                          "yellow 10 cm, red >= 15 cm, magenta lost; start o"
                        : "black: localized path from o, magenta: lost scans";
   out.writeBytes("top_view", ".top.png",
-                 mapper::pngBytes(mapper::renderTopView(map, mapper::heightScaleOf(map), path,
-                                                        options.image_width)));
+                 apps::pngBytes(apps::renderTopView(map, apps::heightScaleOf(map), path,
+                                                    options.image_width)));
 }
 
 }  // namespace ndtom::localizer

@@ -7,7 +7,7 @@
 
 #include "localize_options.h"
 #include "ndtom/map/ndt_map.h"
-#include "output_files.h"
+#include "ndtom_apps/output_files.h"
 #include "tracking.h"
 
 namespace ndtom::localizer {
@@ -34,7 +34,7 @@ struct LocalizeSummary {
   const TrackingResult* tracking = nullptr;
   double total_seconds = 0;
   size_t peak_rss = 0;
-  std::vector<mapper::WrittenFile> files;
+  std::vector<apps::WrittenFile> files;
 };
 
 std::string summaryJson(const LocalizeSummary& summary);
@@ -42,6 +42,6 @@ std::string summaryText(const LocalizeSummary& summary);
 
 /// Stages PREFIX.tum, PREFIX.scans.csv and, if asked, PREFIX.top.png in `out`.
 void writeTrajectoryOutputs(const ndtom::NdtMap& map, const TrackingResult& tracking,
-                            const LocalizeOptions& options, mapper::OutputFiles& out);
+                            const LocalizeOptions& options, apps::OutputFiles& out);
 
 }  // namespace ndtom::localizer

@@ -1,29 +1,26 @@
 // ndtom-localize: the pose of every scan of a log in a saved NDT-OM, by NDT scan-to-map
 // registration. Exit code 0 on success, 1 for bad input data or a failed write, 2 for a bad
 // command line.
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <optional>
 
 #include "localize_options.h"
 #include "localize_outputs.h"
 #include "map_file.h"
-#include "region_map.h"
 #include "ndtom/map/map_queries.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/run_program.h"
+#include "ndtom_apps/trajectory_poses.h"
+#include "region_map.h"
 #include "tracking.h"
-#include "trajectory_poses.h"
 
 using namespace ndtom::localizer;
-using ndtom::mapper::InputError;
+using ndtom::apps::InputError;
 
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 bool hasOccupiedGaussian(const ndtom::NdtMap& map) {
   bool found = false;
@@ -32,9 +29,8 @@ bool hasOccupiedGaussian(const ndtom::NdtMap& map) {
   return found;
 }
 
-int run(const LocalizeOptions& o) {
-  const auto start = std::chrono::steady_clock::now();
-  ndtom::mapper::SourceSettings settings;
+ndtom::apps::SourceSettings sourceSettingsFor(const LocalizeOptions& o) {
+  ndtom::apps::SourceSettings settings;
   settings.input = o.input;
   settings.format = o.format;
   settings.poses_file = o.poses_file;
@@ -43,99 +39,142 @@ int run(const LocalizeOptions& o) {
   settings.max_scans = o.max_scans == 0 ? 0 : o.skip + o.max_scans;
   settings.pose_time_tolerance = o.pose_time_tolerance;
   settings.poses_optional = true;
-  auto source = ndtom::mapper::openScanSource(settings);
-  ndtom::mapper::OutputFiles out(o.prefix);
+  return settings;
+}
 
-  const auto load_start = std::chrono::steady_clock::now();
-  // A tiled map is held in part, around the robot; any other map whole.
+// The map to localize in: a tiled map held in part, around the robot; any other map whole.
+struct LoadedMap {
   std::optional<RegionMap> region;
   std::optional<ndtom::NdtMap> whole;
+  double load_seconds = 0;
+
+  const ndtom::NdtMap& map() const { return region ? region->map() : *whole; }
+};
+
+void loadMap(const LocalizeOptions& o, LoadedMap& loaded) {
+  const auto start = std::chrono::steady_clock::now();
   if (isTiledMapFile(o.map_path)) {
     try {
-      region.emplace(o.map_path, o.region_radius);
+      loaded.region.emplace(o.map_path, o.region_radius);
     } catch (const std::exception& e) {
       throw InputError(ndtom::apps::oneLineMessage(e));
     }
-    if (region->file().tiles().empty())
+    if (loaded.region->file().tiles().empty())
       throw InputError(o.map_path + ": the tiled map has no tile to localize in");
   } else {
-    whole = loadMapFile(o.map_path);
-    if (!hasOccupiedGaussian(*whole))
+    loaded.whole = loadMapFile(o.map_path);
+    if (!hasOccupiedGaussian(*loaded.whole))
       throw InputError(o.map_path +
                        ": the map has no occupied cell with a Gaussian to localize in");
   }
-  const ndtom::NdtMap& map = region ? region->map() : *whole;
-  const double load_seconds = secondsSince(load_start);
-  if (!o.quiet) std::fprintf(stderr, "ndtom-localize: %s\n", source->description().c_str());
+  loaded.load_seconds = ndtom::apps::secondsSince(start);
+}
 
-  std::optional<ndtom::mapper::TrajectoryPoses> reference;
-  if (!o.reference_file.empty())
-    reference.emplace(o.reference_file, o.reference_format, o.reference_time_tolerance);
-  const ReferenceLookup lookup = [&](size_t index,
-                                     double time) -> std::optional<Eigen::Isometry3d> {
+// The pose of a scan in --reference, if given and it has one (no error for a scan without).
+ReferenceLookup referenceLookup(const std::optional<ndtom::apps::TrajectoryPoses>& reference) {
+  return [&reference](size_t index, double time) -> std::optional<Eigen::Isometry3d> {
     if (!reference) return std::nullopt;
     try {
       return reference->poseFor(index, time);
-    } catch (const std::exception&) {  // no pose for this scan: no error for it
+    } catch (const std::exception&) {
       return std::nullopt;
     }
   };
+}
 
-  ndtom::apps::Progress progress(!o.quiet);
+void skipScans(ndtom::apps::ScanSource& source, const LocalizeOptions& o) {
   for (size_t k = 0; k < o.skip; ++k)
-    if (!source->next())
+    if (!source.next())
       throw InputError(o.input + ": fewer than --skip " + std::to_string(o.skip) + " scans");
-  TrackingSettings tracking_settings = o.tracking;
-  LocalizeSummary::Region region_summary;
-  if (region) {
-    tracking_settings.prepare_map = [&](const std::optional<Eigen::Vector3d>& around) {
-      if (around)
-        region->keepAround(*around);
-      else
-        region->keepEverything();
-      region_summary.max_resident_tiles =
-          std::max(region_summary.max_resident_tiles, region->residentTiles());
-      region_summary.max_resident_bytes =
-          std::max(region_summary.max_resident_bytes, map.memoryBytes());
-    };
-  }
-  const TrackingResult tracking =
-      track(map, *source, tracking_settings, lookup, progress, o.skip);
-  if (tracking.scans.empty()) throw InputError(o.input + ": no scans");
-  if (region) {
-    region_summary.radius = region->radius();
-    region_summary.tiles = region->file().tiles().size();
-    region_summary.loads = region->loads();
-    region_summary.drops = region->drops();
-    if (o.pictures) {  // the picture shows the tiles along the path
-      std::vector<Eigen::Vector3d> path;
-      for (const ScanRecord& r : tracking.scans)
-        if (r.pose) path.push_back(r.pose->translation());
-      region->addAlong(path);
-    }
-  }
-  writeTrajectoryOutputs(map, tracking, o, out);
+}
 
+// With a tiled map, the resident tiles follow the robot, and the summary counts them.
+TrackingSettings trackingSettingsFor(const LocalizeOptions& o, LoadedMap& loaded,
+                                     LocalizeSummary::Region& region_summary) {
+  TrackingSettings settings = o.tracking;
+  if (!loaded.region) return settings;
+  settings.prepare_map = [&loaded, &region_summary](const std::optional<Eigen::Vector3d>& around) {
+    RegionMap& region = *loaded.region;
+    if (around)
+      region.keepAround(*around);
+    else
+      region.keepEverything();
+    region_summary.max_resident_tiles =
+        std::max(region_summary.max_resident_tiles, region.residentTiles());
+    region_summary.max_resident_bytes =
+        std::max(region_summary.max_resident_bytes, region.map().memoryBytes());
+  };
+  return settings;
+}
+
+// The tiled map's figures; for the picture, the tiles along the path are loaded.
+void finishRegion(const LocalizeOptions& o, const TrackingResult& tracking, RegionMap& region,
+                  LocalizeSummary::Region& region_summary) {
+  region_summary.radius = region.radius();
+  region_summary.tiles = region.file().tiles().size();
+  region_summary.loads = region.loads();
+  region_summary.drops = region.drops();
+  if (!o.pictures) return;
+  std::vector<Eigen::Vector3d> path;
+  for (const ScanRecord& r : tracking.scans)
+    if (r.pose) path.push_back(r.pose->translation());
+  region.addAlong(path);
+}
+
+// The summary, then every file into place at once.
+void writeSummaryAndCommit(const LocalizeOptions& o, const LoadedMap& loaded,
+                           const std::string& source_description, const TrackingResult& tracking,
+                           const LocalizeSummary::Region& region_summary,
+                           std::chrono::steady_clock::time_point start,
+                           ndtom::apps::OutputFiles& out) {
+  const ndtom::NdtMap& map = loaded.map();
   LocalizeSummary summary;
   summary.options = &o;
-  summary.source_description = source->description();
+  summary.source_description = source_description;
   summary.map_cells = map.numCells();
-  if (region) {
+  if (loaded.region) {
     summary.map_cells = 0;
-    for (const auto& t : region->file().tiles()) summary.map_cells += t.cells;
+    for (const auto& t : loaded.region->file().tiles()) summary.map_cells += t.cells;
     summary.region = region_summary;
   }
   summary.map_gaussians = map.numGaussians();
   summary.map_resolution = map.options().resolution;
-  summary.map_load_seconds = load_seconds;
+  summary.map_load_seconds = loaded.load_seconds;
   summary.tracking = &tracking;
   summary.files = out.files();
   summary.files.push_back({"summary", o.prefix + ".summary.json"});
   summary.peak_rss = ndtom::apps::peakRssBytes();
-  summary.total_seconds = secondsSince(start);
+  summary.total_seconds = ndtom::apps::secondsSince(start);
   out.writeBytes("summary", ".summary.json", summaryJson(summary));
   out.commit();
   if (!o.quiet) std::fputs(summaryText(summary).c_str(), stdout);
+}
+
+int run(const LocalizeOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  // Open the input and the outputs, load the map: every check that can fail fast.
+  auto source = ndtom::apps::openScanSource(sourceSettingsFor(o));
+  ndtom::apps::OutputFiles out(o.prefix);
+  LoadedMap loaded;
+  loadMap(o, loaded);
+  if (!o.quiet) std::fprintf(stderr, "ndtom-localize: %s\n", source->description().c_str());
+  std::optional<ndtom::apps::TrajectoryPoses> reference;
+  if (!o.reference_file.empty())
+    reference.emplace(o.reference_file, o.reference_format, o.reference_time_tolerance);
+
+  // Localize the scans.
+  ndtom::apps::Progress progress(!o.quiet);
+  skipScans(*source, o);
+  LocalizeSummary::Region region_summary;
+  const TrackingResult tracking =
+      track(loaded.map(), *source, trackingSettingsFor(o, loaded, region_summary),
+            referenceLookup(reference), progress, o.skip);
+  if (tracking.scans.empty()) throw InputError(o.input + ": no scans");
+  if (loaded.region) finishRegion(o, tracking, *loaded.region, region_summary);
+
+  // Write the outputs (under temporary names until everything has succeeded).
+  writeTrajectoryOutputs(loaded.map(), tracking, o, out);
+  writeSummaryAndCommit(o, loaded, source->description(), tracking, region_summary, start, out);
   return 0;
 }
 

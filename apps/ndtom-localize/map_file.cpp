@@ -9,12 +9,12 @@
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 #include "ndtom/files/map_io.h"
 #include "ndtom_apps/run_program.h"
-#include "scan_source.h"
+#include "ndtom_apps/scan_source.h"
 
 namespace ndtom::localizer {
 
 ndtom::NdtMap loadMapFile(const std::string& path) {
-  using mapper::InputError;
+  using apps::InputError;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(path + ": no such map file (a .ndtom, .ndtommap or tiled map written by ndtom-map)");

@@ -9,7 +9,7 @@
 
 namespace ndtom::localizer {
 
-/// Throws mapper::InputError naming the file if it cannot be read or is not such a map.
+/// Throws apps::InputError naming the file if it cannot be read or is not such a map.
 ndtom::NdtMap loadMapFile(const std::string& path);
 
 /// Whether `path` starts as a tiled map (ndtom/files/tiled_map_io.h), to be loaded by region.

@@ -4,13 +4,14 @@
 #include <chrono>
 
 #include "motion_prediction.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 
 namespace ndtom::localizer {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using PoseKind = mapper::Scan::PoseKind;
+using PoseKind = apps::Scan::PoseKind;
 
 // The scan's pose from the first registration start that converges, or nothing.
 // Every attempt runs the whole pyramid: starting the prediction's registration on the fine
@@ -30,8 +31,8 @@ class Tracker {
         motion_(settings.initial.value_or(Eigen::Isometry3d::Identity())),
         localized_(settings.initial.has_value()) {}
 
-  void localize(const mapper::Scan& scan, ScanRecord& record, TrackingResult& totals) {
-    const std::vector<Eigen::Vector3d> points = mapper::pointsInFrame(scan);
+  void localize(const apps::Scan& scan, ScanRecord& record, TrackingResult& totals) {
+    const std::vector<Eigen::Vector3d> points = apps::pointsInFrame(scan);
     record.points = points.size();
     const bool search_everywhere =
         !localized_ || settings_.global_every_scan ||
@@ -64,7 +65,7 @@ class Tracker {
   }
 
  private:
-  Eigen::Isometry3d predict(const mapper::Scan& scan) const {
+  Eigen::Isometry3d predict(const apps::Scan& scan) const {
     if (scan.pose_kind == PoseKind::Odometry && last_odometry_)
       return motion_.lastPose() * (last_odometry_->inverse() * scan.frame_pose);
     return motion_.predict(scan.time);
@@ -154,7 +155,7 @@ size_t TrackingResult::count(Outcome outcome) const {
   return n;
 }
 
-TrackingResult track(const ndtom::NdtMap& map, mapper::ScanSource& source,
+TrackingResult track(const ndtom::NdtMap& map, apps::ScanSource& source,
                      const TrackingSettings& settings, const ReferenceLookup& reference,
                      apps::Progress& progress, size_t already_read) {
   const auto start = Clock::now();
@@ -173,7 +174,7 @@ TrackingResult track(const ndtom::NdtMap& map, mapper::ScanSource& source,
     else if (reference)
       record.reference = reference(record.index, record.time);
     tracker.localize(*scan, record, out);
-    record.seconds = std::chrono::duration<double>(Clock::now() - scan_start).count();
+    record.seconds = apps::secondsSince(scan_start);
     record.map_bytes = map.memoryBytes();
     record.rss_bytes = apps::currentRssBytes();
     points_done += record.points;
@@ -181,7 +182,7 @@ TrackingResult track(const ndtom::NdtMap& map, mapper::ScanSource& source,
     progress.update(out.scans.size(), points_done);
   }
   progress.finish();
-  out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  out.seconds = apps::secondsSince(start);
   return out;
 }
 

@@ -14,7 +14,7 @@
 #include "ndtom/localization/global_localization.h"
 #include "ndtom/registration/registration.h"
 #include "ndtom_apps/progress.h"
-#include "scan_source.h"
+#include "ndtom_apps/scan_source.h"
 
 namespace ndtom::localizer {
 
@@ -70,8 +70,8 @@ using ReferenceLookup =
 /// Localizes every scan of `source` in `map` (`already_read` of them were taken before: left
 /// out, as --skip does). The reference is the input's own trajectory
 /// where it is one (Scan::PoseKind::Reference), else `reference` if given. Throws
-/// mapper::InputError for unreadable data.
-TrackingResult track(const ndtom::NdtMap& map, mapper::ScanSource& source,
+/// apps::InputError for unreadable data.
+TrackingResult track(const ndtom::NdtMap& map, apps::ScanSource& source,
                      const TrackingSettings& settings, const ReferenceLookup& reference,
                      apps::Progress& progress, size_t already_read = 0);
 

@@ -18,16 +18,16 @@ void broadcast(void* data, uint64_t bytes, MPI_Comm comm) {
 
 }  // namespace
 
-ScanFeed::ScanFeed(ScanInput mode, std::unique_ptr<ScanSource> source, MPI_Comm comm)
+ScanFeed::ScanFeed(ScanInput mode, std::unique_ptr<apps::ScanSource> source, MPI_Comm comm)
     : mode_(mode), source_(std::move(source)), comm_(comm) {
   MPI_Comm_rank(comm_, &rank_);
   if (!source_ && (mode_ == ScanInput::EachReads || rank_ == 0))
     throw std::logic_error("ScanFeed: no scan source");
 }
 
-std::optional<Scan> ScanFeed::next() {
+std::optional<apps::Scan> ScanFeed::next() {
   if (mode_ == ScanInput::EachReads) return source_->next();
-  std::optional<Scan> scan;
+  std::optional<apps::Scan> scan;
   std::array<double, kHeader> header{};
   int more = 0;
   if (rank_ == 0) {

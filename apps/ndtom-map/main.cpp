@@ -8,43 +8,44 @@
 #include <optional>
 
 #include "map_builder.h"
-#include "map_outputs.h"
-#include "mapper_options.h"
+#include "ndtom_apps/map_outputs.h"
+#include "ndtom_apps/mapper_options.h"
+#include "ndtom_apps/oblique_view.h"
 #include "ndtom_apps/option_values.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/run_program.h"
-#include "oblique_view.h"
+#include "ndtom_apps/scan_source.h"
+#include "ndtom_apps/settings_from_options.h"
 #include "run_summary.h"
-#include "scan_source.h"
-#include "settings_from_options.h"
 #include "spill_folder.h"
 
 using namespace ndtom::mapper;
+namespace apps = ndtom::apps;
 
 namespace {
 
 void requireSomePoints(const MappingResult& mapping, const std::string& input) {
   if (mapping.points.pointsUsed() > 0) return;
-  throw InputError(input + ": no usable point in " + std::to_string(mapping.passes[0].scans) +
-                   " scans (" + std::to_string(mapping.points.points_in) + " points read, " +
-                   std::to_string(mapping.points.rejected()) +
-                   " rejected: see --min-range, --max-range)");
+  throw apps::InputError(input + ": no usable point in " + std::to_string(mapping.passes[0].scans) +
+                         " scans (" + std::to_string(mapping.points.points_in) + " points read, " +
+                         std::to_string(mapping.points.rejected()) +
+                         " rejected: see --min-range, --max-range)");
 }
 
-RunSummary summarize(const MapperOptions& o, const SourceSettings& settings,
+RunSummary summarize(const MapperOptions& o, const apps::SourceSettings& settings,
                      const ndtom::MapOptions& map_options, int threads,
                      const MappingResult& mapping, const std::optional<CoarseMapInfo>& coarse,
                      std::chrono::steady_clock::time_point start) {
   RunSummary summary;
   summary.input = o.input;
-  summary.format = inputFormatName(settings.format);
+  summary.format = apps::inputFormatName(settings.format);
   summary.map_options = map_options;
   summary.threads = threads;
   summary.mapping = &mapping;
   summary.coarse = coarse;
   summary.peak_rss = ndtom::apps::peakRssBytes();
-  summary.total_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.total_seconds = apps::secondsSince(start);
   return summary;
 }
 
@@ -61,8 +62,8 @@ void checkOptionsTogether(const MapperOptions& o, const InsertionOptions& insert
 }
 
 // The summary, then every file into place at once.
-void writeSummaryAndCommit(const MapperOptions& o, RunSummary& summary, StageTimes& times,
-                           OutputFiles& out) {
+void writeSummaryAndCommit(const MapperOptions& o, RunSummary& summary, apps::StageTimes& times,
+                           apps::OutputFiles& out) {
   summary.stages = &times;
   summary.files = out.files();
   summary.files.push_back({"summary", o.prefix + ".summary.json"});
@@ -73,10 +74,10 @@ void writeSummaryAndCommit(const MapperOptions& o, RunSummary& summary, StageTim
 
 // Out of core: the tiled file, written tile by tile, and the summary; nothing needs the whole
 // map in memory.
-void writeOutOfCore(const MapperOptions& o, const SourceSettings& settings,
-                    const BuildSettings& build, const MappingResult& mapping, OutputFiles& out,
-                    StageTimes& times, std::chrono::steady_clock::time_point start,
-                    size_t peak_rss_after_mapping) {
+void writeOutOfCore(const MapperOptions& o, const apps::SourceSettings& settings,
+                    const BuildSettings& build, const MappingResult& mapping,
+                    apps::OutputFiles& out, apps::StageTimes& times,
+                    std::chrono::steady_clock::time_point start, size_t peak_rss_after_mapping) {
   const std::string tiles_file = out.stage("tiled_map", ".ndtomtiles");
   times.time("tiled_map", [&] { mapping.out_of_core->saveTiled(tiles_file); });
   RunSummary summary = summarize(o, settings, build.map, build.threads, mapping, {}, start);
@@ -91,9 +92,9 @@ int run(const MapperOptions& o) {
   // Read the options and open the input: every check that can fail fast happens here.
   const InsertionOptions insertion = resolveInsertionOptions(o.insertion);
   checkOptionsTogether(o, insertion);
-  const SourceSettings settings = sourceSettingsFor(o, insertion);
-  auto source = openScanSource(settings);
-  OutputFiles out(o.prefix);
+  const apps::SourceSettings settings = sourceSettingsFor(o, insertion);
+  auto source = apps::openScanSource(settings);
+  apps::OutputFiles out(o.prefix);
   if (!o.quiet) std::fprintf(stderr, "ndtom-map: %s\n", source->description().c_str());
   BuildSettings build;
   build.map = insertion.toMapOptions();
@@ -124,7 +125,7 @@ int run(const MapperOptions& o) {
   MappingResult mapping = buildMap(std::move(source), settings, build, progress);
   requireSomePoints(mapping, o.input);
   const size_t peak_rss_after_mapping = ndtom::apps::peakRssBytes();
-  StageTimes times(start);
+  apps::StageTimes times(start);
   double passes_s = 0, insert_s = 0;
   for (const PassResult& p : mapping.passes) passes_s += p.seconds;
   for (const double s : mapping.insert_seconds) insert_s += s;
@@ -139,8 +140,8 @@ int run(const MapperOptions& o) {
   // Write the outputs (under temporary names until everything has succeeded).
   mrpt_ndtom::CNDTOccupancyMap map(insertion.resolution);
   map.insertionOptions = insertion;
-  map.renderOptions = renderOptionsFor(mapping.map, heightScaleOf(mapping.map), o.max_ellipsoids,
-                                       o.ellipsoid_detail);
+  map.renderOptions = apps::renderOptionsFor(mapping.map, apps::heightScaleOf(mapping.map),
+                                             o.max_ellipsoids, o.ellipsoid_detail);
   map.setNdtMap(std::move(mapping.map));
   const OutputSettings output_settings = outputSettingsFor(o, insertion);
   const auto coarse = writeMapOutputs(map, mapping.sensor_path, output_settings, out, times);

@@ -4,16 +4,13 @@
 #include <future>
 
 #include "ndtom/map/map_queries.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 
 namespace ndtom::mapper {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Adds what `map` holds to `r`.
 void countMap(const ndtom::NdtMap& map, PassResult& r) {
@@ -53,30 +50,30 @@ std::string budgetMessage(const ndtom::MemoryBudgetError& e) {
 // one thread may run (reading is a tenth of inserting, on a core insertion does not fill).
 class ScanReader {
  public:
-  ScanReader(ScanSource& source, bool read_ahead) : source_(source), read_ahead_(read_ahead) {
+  ScanReader(apps::ScanSource& source, bool read_ahead) : source_(source), read_ahead_(read_ahead) {
     if (read_ahead_) ahead_ = readAhead();
   }
   ~ScanReader() {
     if (ahead_.valid()) ahead_.wait();  // it uses the source
   }
-  std::optional<Scan> next() {
+  std::optional<apps::Scan> next() {
     if (!read_ahead_) return source_.next();
-    std::optional<Scan> scan = ahead_.get();
+    std::optional<apps::Scan> scan = ahead_.get();
     if (scan) ahead_ = readAhead();
     return scan;
   }
 
  private:
-  std::future<std::optional<Scan>> readAhead() {
+  std::future<std::optional<apps::Scan>> readAhead() {
     return std::async(std::launch::async, [this] { return source_.next(); });
   }
-  ScanSource& source_;
+  apps::ScanSource& source_;
   bool read_ahead_;
-  std::future<std::optional<Scan>> ahead_;
+  std::future<std::optional<apps::Scan>> ahead_;
 };
 
 // One pass: every scan of `source` into `result.map`.
-void insertAll(ScanSource& source, const ndtom::ScanOptions& insert,
+void insertAll(apps::ScanSource& source, const ndtom::ScanOptions& insert,
                const apps::MotionThresholds& motion, bool first_pass, const std::string& input,
                MappingResult& result, apps::Progress& progress) {
   size_t done = 0, points = 0;
@@ -97,11 +94,11 @@ void insertAll(ScanSource& source, const ndtom::ScanOptions& insert,
               ? result.out_of_core->insertScan(scan->points_world, scan->sensor_origin, insert)
               : result.map.insertScan(scan->points_world, scan->sensor_origin, insert);
     } catch (const std::invalid_argument& e) {  // a bad sensor origin; the map is unchanged
-      throw InputError(scan->name + ": " + e.what());
+      throw apps::InputError(scan->name + ": " + e.what());
     } catch (const ndtom::MemoryBudgetError& e) {
-      throw InputError(scan->name + " in " + input + ": " + budgetMessage(e));
+      throw apps::InputError(scan->name + " in " + input + ": " + budgetMessage(e));
     }
-    result.insert_seconds.push_back(secondsSince(start));
+    result.insert_seconds.push_back(apps::secondsSince(start));
     if (first_pass) result.sensor_path.push_back(scan->sensor_origin);
     points += scan->points_world.size();
     progress.update(++done, points);
@@ -110,8 +107,9 @@ void insertAll(ScanSource& source, const ndtom::ScanOptions& insert,
 
 }  // namespace
 
-MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings& settings,
-                       const BuildSettings& build, apps::Progress& progress) {
+MappingResult buildMap(std::unique_ptr<apps::ScanSource> source,
+                       const apps::SourceSettings& settings, const BuildSettings& build,
+                       apps::Progress& progress) {
   MappingResult result;
   result.map = ndtom::NdtMap(build.map);
   result.source_description = source->description();
@@ -121,7 +119,7 @@ MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings&
   ndtom::ScanOptions insert = build.map.scan;
   insert.threads = build.threads;
   for (int pass = 1; pass <= build.passes; ++pass) {
-    if (pass > 1) source = openScanSource(settings);
+    if (pass > 1) source = apps::openScanSource(settings);
     const auto start = Clock::now();
     progress.start(
         build.passes > 1 ? "pass " + std::to_string(pass) + "/" + std::to_string(build.passes) : "",
@@ -131,7 +129,7 @@ MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings&
     if (pass == 1) result.skips = source->skips();
     PassResult r = describeMap(result);
     r.scans = source->size();
-    r.seconds = secondsSince(start);
+    r.seconds = apps::secondsSince(start);
     result.passes.push_back(r);
   }
   return result;

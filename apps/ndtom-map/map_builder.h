@@ -10,7 +10,7 @@
 #include "ndtom/scale/out_of_core_map.h"
 #include "ndtom_apps/motion_gate.h"
 #include "ndtom_apps/progress.h"
-#include "scan_source.h"
+#include "ndtom_apps/scan_source.h"
 
 namespace ndtom::mapper {
 
@@ -30,7 +30,7 @@ struct MappingResult {
   std::vector<double> insert_seconds;  ///< per scan, every pass: NdtMap::insertScan only
   std::vector<PassResult> passes;
   std::vector<Eigen::Vector3d> sensor_path;  ///< sensor origins of the first pass
-  SourceSkips skips;                         ///< of the first pass
+  apps::SourceSkips skips;                   ///< of the first pass
   std::string source_description;
 };
 
@@ -47,7 +47,8 @@ struct BuildSettings {
 /// Inserts every scan of `source` that passes the motion gate (already opened from `settings`),
 /// then reopens the input for each further pass. Throws InputError for unreadable data or a bad
 /// scan.
-MappingResult buildMap(std::unique_ptr<ScanSource> source, const SourceSettings& settings,
-                       const BuildSettings& build, apps::Progress& progress);
+MappingResult buildMap(std::unique_ptr<apps::ScanSource> source,
+                       const apps::SourceSettings& settings, const BuildSettings& build,
+                       apps::Progress& progress);
 
 }  // namespace ndtom::mapper

@@ -4,16 +4,18 @@
 #include <cmath>
 #include <cstdio>
 
-#include "json_writer.h"
+#include "ndtom_apps/json_writer.h"
+#include "ndtom_apps/statistics.h"
 
 namespace ndtom::mapper {
 namespace {
 
 double median(const std::vector<double>& v) {
-  return percentile(v, 0.5);
+  return apps::percentile(v, 0.5);
 }
 
-void writePoints(JsonWriter& j, const ndtom::InsertionReport& p, const SourceSkips& skips) {
+void writePoints(apps::JsonWriter& j, const ndtom::InsertionReport& p,
+                 const apps::SourceSkips& skips) {
   j.beginObject("points");
   j.field("in", p.points_in);
   j.field("used", p.pointsUsed());
@@ -36,7 +38,7 @@ void writePoints(JsonWriter& j, const ndtom::InsertionReport& p, const SourceSki
 }
 
 // What the map holds after a pass: the same fields in "map" and in each of "passes".
-void writeMapCounts(JsonWriter& j, const PassResult& p) {
+void writeMapCounts(apps::JsonWriter& j, const PassResult& p) {
   j.field("cells", p.cells);
   j.field("gaussians", p.gaussians);
   j.field("occupied_cells", p.occupied);
@@ -44,7 +46,7 @@ void writeMapCounts(JsonWriter& j, const PassResult& p) {
   j.field("map_bytes", p.map_bytes);
 }
 
-void writePasses(JsonWriter& j, const std::vector<PassResult>& passes) {
+void writePasses(apps::JsonWriter& j, const std::vector<PassResult>& passes) {
   j.beginArray("passes");
   for (size_t i = 0; i < passes.size(); ++i) {
     const PassResult& p = passes[i];
@@ -76,7 +78,7 @@ std::string describe(const std::string& role) {
   return role;
 }
 
-void writeMapAndCosts(JsonWriter& j, const RunSummary& s) {
+void writeMapAndCosts(apps::JsonWriter& j, const RunSummary& s) {
   const MappingResult& m = *s.mapping;
   const PassResult& last = m.passes.back();
   j.beginObject("map");
@@ -92,7 +94,7 @@ void writeMapAndCosts(JsonWriter& j, const RunSummary& s) {
   }
   j.beginObject("time");
   j.field("insert_ms_median", 1e3 * median(m.insert_seconds));
-  j.field("insert_ms_p95", 1e3 * percentile(m.insert_seconds, 0.95));
+  j.field("insert_ms_p95", 1e3 * apps::percentile(m.insert_seconds, 0.95));
   j.field("total_s", s.total_seconds);
   if (s.stages) {
     j.beginObject("stages_s");
@@ -132,14 +134,6 @@ double megabytes(size_t bytes) {
 
 }  // namespace
 
-double percentile(std::vector<double> values, double q) {
-  if (values.empty()) return 0;
-  const size_t k =
-      std::min(values.size() - 1, size_t(std::ceil(q * double(values.size()))) - (q > 0 ? 1 : 0));
-  std::nth_element(values.begin(), values.begin() + long(k), values.end());
-  return values[k];
-}
-
 PassDrift passDrift(const std::vector<PassResult>& passes) {
   PassDrift d;
   if (passes.empty()) return d;
@@ -159,7 +153,7 @@ PassDrift passDrift(const std::vector<PassResult>& passes) {
 std::string summaryJson(const RunSummary& s) {
   const MappingResult& m = *s.mapping;
   const PassResult& last = m.passes.back();
-  JsonWriter j;
+  apps::JsonWriter j;
   j.beginObject();
   j.field("input", s.input);
   j.field("format", s.format);
@@ -174,7 +168,7 @@ std::string summaryJson(const RunSummary& s) {
   writeMapAndCosts(j, s);
   writePasses(j, m.passes);
   j.beginObject("files");
-  for (const WrittenFile& f : s.files) j.field(f.role, f.path);
+  for (const apps::WrittenFile& f : s.files) j.field(f.role, f.path);
   j.endObject();
   j.endObject();
   return j.str();
@@ -196,7 +190,8 @@ std::string summaryText(const RunSummary& s) {
                 megabytes(last.map_bytes), p.points_in, p.pointsUsed(), p.rejected(),
                 p.rejected_non_finite, p.rejected_too_close, p.rejected_out_of_grid,
                 p.rejected_too_far, 1e3 * median(m.insert_seconds),
-                1e3 * percentile(m.insert_seconds, 0.95), s.total_seconds, megabytes(s.peak_rss));
+                1e3 * apps::percentile(m.insert_seconds, 0.95), s.total_seconds,
+                megabytes(s.peak_rss));
   text += buffer;
   if (s.stages && !s.stages->stages().empty()) {
     text += "  stages ";
@@ -230,8 +225,8 @@ std::string summaryText(const RunSummary& s) {
   }
   text += "Wrote:\n";
   size_t width = 0;
-  for (const WrittenFile& f : s.files) width = std::max(width, f.path.size());
-  for (const WrittenFile& f : s.files)
+  for (const apps::WrittenFile& f : s.files) width = std::max(width, f.path.size());
+  for (const apps::WrittenFile& f : s.files)
     text += "  " + f.path + std::string(width + 2 - f.path.size(), ' ') + describe(f.role) + "\n";
   return text;
 }

@@ -7,26 +7,17 @@
 #include <vector>
 
 #include "map_builder.h"
-#include "stage_times.h"
+#include "ndtom_apps/map_outputs.h"
+#include "ndtom_apps/output_files.h"
+#include "ndtom_apps/stage_times.h"
 
 namespace ndtom::mapper {
-
-struct CoarseMapInfo {
-  int factor = 0;
-  double resolution = 0;  ///< m
-  size_t cells = 0, gaussians = 0;
-};
 
 /// An out-of-core build: its settings and what OutOfCoreMap counted.
 struct OutOfCoreInfo {
   uint64_t resident_budget = 0;  ///< bytes
   int tile_blocks = 0;
   ndtom::OutOfCoreMap::Stats stats;
-};
-
-struct WrittenFile {
-  std::string role;  ///< "map", "mrpt_map", "scene", "top_view", "view_3d", "coarse_map", ...
-  std::string path;
 };
 
 struct RunSummary {
@@ -39,12 +30,9 @@ struct RunSummary {
   double total_seconds = 0;
   size_t peak_rss_after_mapping = 0;  ///< bytes, before the pictures and files
   size_t peak_rss = 0;                ///< bytes, whole run
-  std::vector<WrittenFile> files;
-  const StageTimes* stages = nullptr;  ///< reading, inserting, each output
+  std::vector<apps::WrittenFile> files;
+  const apps::StageTimes* stages = nullptr;  ///< reading, inserting, each output
 };
-
-/// Value at fraction q in [0, 1] of the sorted values (nearest rank); 0 if empty.
-double percentile(std::vector<double> values, double q);
 
 /// Largest |x_pass - x_first| / x_first over the passes, in percent, for cells and map bytes.
 struct PassDrift {

@@ -3,8 +3,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "ndtom_io/pcd_reader.h"
-#include "ndtom_io/pose_file.h"
+#include "ndtom_io/scan_folder.h"
 
 namespace ndtom::microbench {
 
@@ -13,12 +12,14 @@ const std::vector<WorldScan>& realScans(size_t count) {
   if (scans.size() >= count) return scans;
   const char* env = std::getenv("NDTOM_MICROBENCH_DATA");
   const std::string dir = env && *env ? env : NDTOM_MICROBENCH_DATA;
-  const auto poses = io::readPoseFile(dir + "/poses.txt", io::PoseFormat::Kitti);
-  for (size_t i = scans.size(); i < count && i < poses.size(); ++i) {
-    const io::PointCloud cloud = io::readPcd(dir + "/full" + std::to_string(i) + ".pcd");
-    WorldScan scan{poses[i].pose.translation(), {}, poses[i].pose};
-    for (const Eigen::Vector3d& p : cloud.points)
-      if (p.allFinite() && !p.isZero(0.0)) scan.points.push_back(poses[i].pose * p);
+  const io::ScanFolder folder(dir);
+  io::PointFilter no_returns;  // as the benchmarks of whole systems (ndtom-bench) drop them
+  no_returns.drop_non_finite = no_returns.drop_origin = true;
+  for (size_t i = scans.size(); i < count && i < folder.size(); ++i) {
+    const Eigen::Isometry3d& pose = folder.poses()[i].pose;
+    WorldScan scan{pose.translation(), {}, pose};
+    for (const Eigen::Vector3d& p : folder.read(i, no_returns).points)
+      scan.points.push_back(pose * p);
     scans.push_back(std::move(scan));
   }
   return scans;

@@ -16,15 +16,15 @@
 #include <optional>
 
 #include "ndtom_apps/option_values.h"
-#include "output_files.h"
-#include "scan_source.h"
+#include "ndtom_apps/output_files.h"
+#include "ndtom_apps/scan_source.h"
 
 namespace fs = std::filesystem;
 
 namespace ndtom::rawlog {
 namespace {
 
-using mapper::InputError;
+using apps::InputError;
 
 mrpt::poses::CPose3D toPose(const Eigen::Isometry3d& t) {
   mrpt::math::CMatrixDouble44 m;
@@ -77,11 +77,11 @@ mrpt::obs::CActionRobotMovement3D odometryAction(const mrpt::poses::CPose3D& inc
 }
 
 ConversionReport convertFolder(const RawlogOptions& o, apps::Progress& progress) {
-  mapper::SourceSettings settings;
+  apps::SourceSettings settings;
   settings.input = o.folder;
-  settings.format = mapper::InputFormat::PcdFolder;
+  settings.format = apps::InputFormat::PcdFolder;
   settings.decimation = o.decimation;
-  auto source = mapper::openPcdFolder(settings);
+  auto source = apps::openPcdFolder(settings);
   const size_t scans = source->size();
   const ScanRange log = o.log_scans.value_or(ScanRange{0, scans - 1});
   checkRange("--scans", log, scans, o.folder);
@@ -89,9 +89,9 @@ ConversionReport convertFolder(const RawlogOptions& o, apps::Progress& progress)
   const size_t needed = std::max(log.last, o.map_scans ? o.map_scans->last : 0) + 1;
   // KITTI pose files carry no time: times.txt beside them does.
   const std::vector<double> times =
-      mapper::readScanTimes((fs::path(o.folder) / "times.txt").string(), scans);
+      apps::readScanTimes((fs::path(o.folder) / "times.txt").string(), scans);
 
-  mapper::OutputFiles out(o.prefix);
+  apps::OutputFiles out(o.prefix);
   mrpt::io::CFileOutputStream rawlog_file;
   if (!rawlog_file.open(out.stage("rawlog", ".rawlog")))
     throw std::runtime_error(o.prefix + ".rawlog: cannot write");
@@ -105,10 +105,10 @@ ConversionReport convertFolder(const RawlogOptions& o, apps::Progress& progress)
   std::optional<mrpt::poses::CPose3D> previous;
   progress.start("reading", needed);
   for (size_t i = 0; i < needed; ++i) {
-    const std::optional<mapper::Scan> scan = source->next();
+    const std::optional<apps::Scan> scan = source->next();
     if (!scan) throw InputError(o.folder + ": fewer scans than listed");
     const mrpt::poses::CPose3D pose = toPose(scan->frame_pose);
-    const auto obs = pointCloudObservation(mapper::pointsInFrame(*scan), times[i]);
+    const auto obs = pointCloudObservation(apps::pointsInFrame(*scan), times[i]);
     if (log.contains(i)) {
       const mrpt::poses::CPose3D increment = previous ? pose - *previous : mrpt::poses::CPose3D();
       mrpt::obs::CActionCollection actions;

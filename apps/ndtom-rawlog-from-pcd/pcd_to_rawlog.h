@@ -36,7 +36,7 @@ struct ConversionReport {
 };
 
 /// Reads the folder and writes the outputs under temporary names, renamed into place
-/// together at the end. Throws apps::UsageError / mapper::InputError on bad input.
+/// together at the end. Throws apps::UsageError / apps::InputError on bad input.
 ConversionReport convertFolder(const RawlogOptions& options, apps::Progress& progress);
 
 }  // namespace ndtom::rawlog

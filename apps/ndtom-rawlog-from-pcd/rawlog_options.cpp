@@ -21,7 +21,7 @@ double parseStd(const std::string& option, const std::string& text) {
 
 const apps::OptionTable<RawlogOptions>& optionTable() {
   using O = RawlogOptions;
-  static const apps::OptionTable<RawlogOptions> table = {
+  static const auto table = apps::withHelpAndQuiet<O>({
       {"-o", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
       {"--output", {true, [](O& o, const std::string& v) { o.prefix = v; }}},
       {"--scans",
@@ -44,11 +44,7 @@ const apps::OptionTable<RawlogOptions>& optionTable() {
         [](O& o, const std::string& v) {
           o.noise.seed = uint64_t(parseInteger("--seed", v, 0, INT64_MAX));
         }}},
-      {"--quiet", {false, [](O& o, const std::string&) { o.quiet = true; }}},
-      {"-q", {false, [](O& o, const std::string&) { o.quiet = true; }}},
-      {"--help", {false, [](O& o, const std::string&) { o.help = true; }}},
-      {"-h", {false, [](O& o, const std::string&) { o.help = true; }}},
-  };
+  });
   return table;
 }
 

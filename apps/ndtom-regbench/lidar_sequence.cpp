@@ -4,8 +4,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "ndtom_io/pcd_reader.h"
-#include "ndtom_io/pose_file.h"
+#include "ndtom_io/scan_folder.h"
 
 namespace ndtom::regbench {
 
@@ -19,26 +18,20 @@ size_t LidarSequence::totalPoints() const {
 
 LidarSequence loadLidarSequence(const std::string& dir) {
   if (!fs::is_directory(dir)) throw std::runtime_error("--dataset " + dir + ": not a directory");
+  const io::ScanFolder folder(dir);
   LidarSequence sequence;
-  for (const io::StampedPose& p :
-       io::readPoseFile((fs::path(dir) / "poses.txt").string(), io::PoseFormat::Kitti))
-    sequence.poses.push_back(p.pose);
-  if (sequence.poses.empty()) throw std::runtime_error("--dataset " + dir + ": no pose listed");
-  fs::path folder = fs::path(dir).lexically_normal();
-  if (folder.filename().empty()) folder = folder.parent_path();  // "dir/" names "dir"
-  sequence.name = folder.filename().string();
+  for (const io::StampedPose& p : folder.poses()) sequence.poses.push_back(p.pose);
+  fs::path name = fs::path(dir).lexically_normal();
+  if (name.filename().empty()) name = name.parent_path();  // "dir/" names "dir"
+  sequence.name = name.filename().string();
 
-  for (size_t i = 0; i < sequence.poses.size(); ++i) {
-    io::PointCloud cloud =
-        io::readPcd((fs::path(dir) / ("full" + std::to_string(i) + ".pcd")).string());
-    // NaN rows and zero rows (no return) are dropped for every system alike, and counted.
-    auto& points = cloud.points;
-    const auto kept = std::remove_if(points.begin(), points.end(), [](const Eigen::Vector3d& p) {
-      return !p.allFinite() || p.isZero(0.0);
-    });
-    sequence.dropped_points += size_t(points.end() - kept);
-    points.erase(kept, points.end());
-    sequence.scans.push_back(std::move(points));
+  // NaN rows and zero rows (no return) are dropped for every system alike, and counted.
+  io::PointFilter no_returns;
+  no_returns.drop_non_finite = no_returns.drop_origin = true;
+  for (size_t i = 0; i < folder.size(); ++i) {
+    io::DroppedPoints dropped;
+    sequence.scans.push_back(folder.read(i, no_returns, &dropped).points);
+    sequence.dropped_points += dropped.invalid;
   }
   return sequence;
 }

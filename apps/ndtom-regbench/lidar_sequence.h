@@ -17,8 +17,8 @@ struct LidarSequence {
   size_t totalPoints() const;
 };
 
-/// Reads full<i>.pcd for every pose of the KITTI poses.txt in `dir`. Throws
-/// std::runtime_error with a one-line message naming the file on any problem.
+/// Reads every scan of `dir` (io::ScanFolder: *.pcd in the sensor frame, KITTI poses.txt).
+/// Throws std::runtime_error with a one-line message naming the file on any problem.
 LidarSequence loadLidarSequence(const std::string& dir);
 
 /// The map's input: the scans of the sequence that are not held out, and their points within

@@ -15,6 +15,7 @@
 #include "mrpt_icp_system.h"
 #include "ndtom_apps/machine_info.h"
 #include "ndtom_apps/option_values.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_system.h"
 #include "pcl_peers.h"
@@ -29,10 +30,6 @@ using namespace ndtom;
 using namespace ndtom::regbench;
 
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 /// The systems to run: those asked for, or every one this build has.
 std::vector<SystemKind> chosenSystems(const RegbenchOptions& o) {
@@ -93,7 +90,7 @@ SharedNdtMap sharedNdtMap(const std::vector<SystemKind>& systems, const LidarSeq
   const auto t0 = std::chrono::steady_clock::now();
   ndt.map =
       std::make_unique<NdtMap>(buildNdtMap(sequence, map_scans.scans, o.resolution, o.max_range));
-  ndt.seconds = secondsSince(t0);
+  ndt.seconds = apps::secondsSince(t0);
   return ndt;
 }
 
@@ -182,7 +179,7 @@ int run(const RegbenchOptions& o) {
   for (const PlannedRun& p : plan) {
     const auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<RegistrationSystem> system = makeSystem(p, map_scans, ndt);
-    const double setup = isNdtom(p.kind) ? ndt.seconds : secondsSince(t0);
+    const double setup = isNdtom(p.kind) ? ndt.seconds : apps::secondsSince(t0);
     system->setScans(held_out_scans);
     char title[200];
     std::snprintf(title, sizeof title, "run %zu/%zu %s", runs.size() + 1, plan.size(),
@@ -204,7 +201,7 @@ int run(const RegbenchOptions& o) {
   if (!o.plot_path.empty()) writeSuccessPlot(o.plot_path, sequence.name, summaries, o.errors);
   if (!o.quiet)
     std::fprintf(stderr, "ndtom-regbench: %zu registrations by %zu system runs in %.1f s\n",
-                 starts.size() * runs.size(), runs.size(), secondsSince(start));
+                 starts.size() * runs.size(), runs.size(), apps::secondsSince(start));
   return 0;
 }
 

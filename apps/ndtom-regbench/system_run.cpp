@@ -22,7 +22,7 @@ SystemRun runSystem(RegistrationSystem& system, const std::vector<Start>& starts
     const double cpu = apps::processCpuSeconds();
     const auto t0 = std::chrono::steady_clock::now();
     trial.attempt = system.align(size_t(slot), start.guess);
-    trial.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    trial.seconds = apps::secondsSince(t0);
     trial.cpu_seconds = apps::processCpuSeconds() - cpu;
     trial.error = poseError(trial.attempt.pose, poses.at(size_t(start.scan)));
     if (trial.first_call) run.first_call_seconds = trial.seconds;

@@ -13,6 +13,7 @@
 #include "city_route.h"
 #include "ndtom_internal/atomic_file.h"
 #include "ndtom_apps/option_values.h"
+#include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_io/pcd_reader.h"
@@ -84,8 +85,7 @@ int run(const WorldOptions& o) {
     std::printf("ndtom-worldgen: %zu scans over %.2f km in a city of %dx%d blocks (%zu boxes), "
                 "%.1f M points, %.1f s; wrote %s\n",
                 poses.size(), o.route.length / 1000, o.city.blocks_x, o.city.blocks_y,
-                city.boxes().size(), double(points) / 1e6,
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                city.boxes().size(), double(points) / 1e6, ndtom::apps::secondsSince(start),
                 o.out.c_str());
   return 0;
 }

@@ -1,5 +1,6 @@
-// The programs' command-line walker and lists of named values: flags alone, options with one
-// value, a missing value and unknown names refused with a message naming the option.
+// The programs' command-line walker, option tables and lists of named values: flags alone,
+// options with one value, a missing value and unknown names refused with a message naming the
+// option.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -62,4 +63,23 @@ TEST(ParseNamedList, RefusesUnknownRepeatedAndEmpty) {
   EXPECT_EQ(usageMessage([] { parseNamedList("--fruit", "pear,pear", kFruits); }),
             "--fruit: pear is listed twice");
   EXPECT_EQ(usageMessage([] { parseNamedList("--fruit", ",", kFruits); }), "--fruit: empty list");
+}
+
+TEST(WithHelpAndQuiet, AddsTheFourFlagsToATable) {
+  struct Options {
+    std::string out;
+    bool help = false, quiet = false;
+  };
+  const auto table = withHelpAndQuiet<Options>(
+      {{"-o", {true, [](Options& o, const std::string& v) { o.out = v; }}}});
+  EXPECT_EQ(table.size(), 5u);
+  for (const char* flag : {"--help", "-h", "--quiet", "-q"}) {
+    SCOPED_TRACE(flag);
+    const char* argv[] = {"program", "-o", "x", flag, "input"};
+    Options o;
+    EXPECT_EQ(applyArguments(5, argv, table, o), std::vector<std::string>{"input"});
+    EXPECT_EQ(o.out, "x");
+    EXPECT_EQ(o.help, flag[1] == 'h' || flag[2] == 'h');
+    EXPECT_EQ(o.quiet, !o.help);
+  }
 }

@@ -1,8 +1,12 @@
-// main()'s error handling: exit status 2 for a bad command line, 1 for other failures, the
-// body's own status otherwise; one line "program: message" on stderr (captured: no terminal).
+// main()'s error handling: exit status 2 for a bad command line, 1 for other failures and for
+// output the standard output did not take, the body's own status otherwise; one line
+// "program: message" on stderr (captured: no terminal).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -50,4 +54,18 @@ TEST(RunProgram, OutOfMemorySaysSo) {
 TEST(OneLineMessage, PlainMessagesStayAsTheyAre) {
   EXPECT_EQ(oneLineMessage(std::runtime_error("plain")), "plain");
   EXPECT_EQ(oneLineMessage(std::runtime_error("first\nsecond")), "first");
+}
+
+// Output that never reached the file (a full disk behind a redirection) fails the run.
+TEST(RunProgramDeathTest, UnwrittenStandardOutputIsStatusOne) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  EXPECT_EXIT(
+      {
+        if (!std::freopen("/dev/full", "w", stdout)) std::exit(99);
+        std::exit(runProgram("ndtom-x", [] {
+          std::printf("a report\n");
+          return 0;
+        }));
+      },
+      testing::ExitedWithCode(1), "ndtom-x: cannot write the standard output: No space left");
 }

@@ -1,9 +1,10 @@
 // apps::quantile against the definition: linear interpolation between the order statistics
-// at q·(n−1), whatever the input order; no samples give 0.
+// at q·(n−1), whatever the input order; no samples give 0. apps::percentile: the nearest rank.
 #include <gtest/gtest.h>
 
 #include "ndtom_apps/statistics.h"
 
+using ndtom::apps::percentile;
 using ndtom::apps::quantile;
 
 TEST(Quantile, InterpolatesBetweenOrderStatistics) {
@@ -20,4 +21,13 @@ TEST(Quantile, EdgeCases) {
   EXPECT_EQ(quantile({}, 0.5), 0);
   EXPECT_EQ(quantile({2.5}, 0.0), 2.5);
   EXPECT_EQ(quantile({2.5}, 0.95), 2.5);
+}
+
+TEST(Percentile, NearestRank) {
+  std::vector<double> v;
+  for (int i = 100; i >= 1; --i) v.push_back(i);
+  EXPECT_EQ(percentile(v, 0.5), 50);
+  EXPECT_EQ(percentile(v, 0.95), 95);
+  EXPECT_EQ(percentile(v, 1.0), 100);
+  EXPECT_EQ(percentile({}, 0.5), 0);
 }

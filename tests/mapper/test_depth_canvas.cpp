@@ -7,9 +7,9 @@
 #include <cmath>
 #include <random>
 
-#include "depth_canvas.h"
+#include "ndtom_apps/depth_canvas.h"
 
-namespace ndtom::mapper {
+namespace ndtom::apps {
 namespace {
 
 const cv::Vec3b kWhite(255, 255, 255), kRed(0, 0, 200), kBlue(200, 0, 0);
@@ -138,4 +138,4 @@ TEST(DepthCanvas, SkipsEllipsoidsAroundOrBehindTheEye) {
 }
 
 }  // namespace
-}  // namespace ndtom::mapper
+}  // namespace ndtom::apps

@@ -12,7 +12,7 @@
 #include <random>
 #include <unistd.h>
 
-#include "gzip_members.h"
+#include "ndtom_apps/gzip_members.h"
 
 namespace ndtom::mapper {
 namespace {

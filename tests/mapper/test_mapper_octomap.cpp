@@ -9,7 +9,7 @@
 #include "mapper_run.h"
 #include "ndtom/files/map_io.h"
 #include "ndtom/map/map_queries.h"
-#include "octomap_export.h"
+#include "ndtom_apps/octomap_export.h"
 
 using namespace mapper_test;
 

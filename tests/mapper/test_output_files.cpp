@@ -5,9 +5,9 @@
 #include <sys/wait.h>
 
 #include "mapper_run.h"
-#include "output_files.h"
+#include "ndtom_apps/output_files.h"
 
-using namespace ndtom::mapper;
+using namespace ndtom::apps;
 namespace fs = std::filesystem;
 using mapper_test::readText;
 using mapper_test::TempDir;

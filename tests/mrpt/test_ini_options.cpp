@@ -10,8 +10,10 @@
 #include <sstream>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
+#include "support/thrown_message.h"
 
 using mrpt_ndtom::CNDTOccupancyMap;
+using ndtom::testing::thrownMessage;
 
 namespace {
 
@@ -66,15 +68,6 @@ CNDTOccupancyMap::TInsertionOptions loadInsertion(const std::string& body) {
   CNDTOccupancyMap::TInsertionOptions o;
   o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s");
   return o;
-}
-
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
 }
 
 }  // namespace
@@ -220,7 +213,7 @@ TEST(IniOptions, BadValuesFailAtLoadNamingTheOption) {
       {"memory_budget = inf", "memory_budget"},
   };
   for (const auto& [body, option] : cases) {
-    const std::string msg = errorOf([&] { loadInsertion(body); });
+    const std::string msg = thrownMessage([&] { loadInsertion(body); });
     EXPECT_NE(msg.find(option), std::string::npos) << body << " -> " << msg;
   }
   const std::vector<std::pair<std::string, std::string>> likelihood = {
@@ -242,12 +235,12 @@ TEST(IniOptions, BadValuesFailAtLoadNamingTheOption) {
   };
   for (const auto& [body, option] : likelihood) {
     CNDTOccupancyMap::TLikelihoodOptions o;
-    const std::string msg = errorOf(
+    const std::string msg = thrownMessage(
         [&] { o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s"); });
     EXPECT_NE(msg.find(option), std::string::npos) << body << " -> " << msg;
   }
   // Through the multi-map loader the section is named as well.
-  const std::string msg = errorOf([] {
+  const std::string msg = thrownMessage([] {
     multiMapFrom("[M]\nndtOccupancyMap_count=1\n[M_ndtOccupancyMap_00_insertOpts]\np_hit=2\n", "M");
   });
   EXPECT_NE(msg.find("M_ndtOccupancyMap_00_insertOpts"), std::string::npos) << msg;
@@ -262,16 +255,16 @@ TEST(IniOptions, ThreadsMustBeAnIntegerInTheCoresRange) {
   // MRPT's read_int would take the last three as 2, 1 and 2.
   for (const std::string value :
        {"0", "-3", "257", "100000", "4294967298", "1e3", "2.5", "two", "2 threads"}) {
-    const std::string msg = errorOf([&] { loadInsertion("threads = " + value); });
+    const std::string msg = thrownMessage([&] { loadInsertion("threads = " + value); });
     EXPECT_NE(msg.find("[s] threads = " + value + ":"), std::string::npos)
         << value << " -> " << msg;
   }
-  EXPECT_NE(errorOf([] { loadInsertion("threads = 0"); }).find("must be in [1, 256]"),
+  EXPECT_NE(thrownMessage([] { loadInsertion("threads = 0"); }).find("must be in [1, 256]"),
             std::string::npos);
   // Set in code, the value is checked at the next insertion, which then changes nothing.
   CNDTOccupancyMap map(0.5);
   map.insertionOptions.scan.threads = 0;
-  const std::string msg = errorOf([&] { map.insertPoints({{2, 0, 0}}, {0, 0, 0}); });
+  const std::string msg = thrownMessage([&] { map.insertPoints({{2, 0, 0}}, {0, 0, 0}); });
   EXPECT_NE(msg.find("threads = 0"), std::string::npos) << msg;
   EXPECT_TRUE(map.isEmpty());
 }
@@ -391,7 +384,7 @@ visible_free_voxels = false
                                                         {"max_ellipsoids = -3", "max_ellipsoids"},
                                                         {"free_cell_point_size = 0", "free_cell"}}) {
     mrpt_ndtom::TRenderOptions o;
-    const std::string msg = errorOf(
+    const std::string msg = thrownMessage(
         [&] { o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s"); });
     EXPECT_NE(msg.find(option), std::string::npos) << body << " -> " << msg;
     EXPECT_TRUE(o == mrpt_ndtom::TRenderOptions()) << body;

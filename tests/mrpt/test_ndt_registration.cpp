@@ -14,11 +14,13 @@
 #include "balm_scans.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 #include "mrpt_ndtom/CNDTRegistration.h"
+#include "support/thrown_message.h"
 
 using mrpt::poses::CPose2D;
 using mrpt::poses::CPose3D;
 using mrpt_ndtom::CNDTOccupancyMap;
 using mrpt_ndtom::CNDTRegistration;
+using ndtom::testing::thrownMessage;
 
 namespace {
 
@@ -28,15 +30,6 @@ const std::string kDatasets = MRPT_DATASETS;
 double rotationErrorDeg(const CPose3D& a, const CPose3D& b) {
   const CPose3D d = a - b;
   return Eigen::AngleAxisd(d.getRotationMatrix().asEigen()).angle() / kDeg;
-}
-
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
 }
 
 }  // namespace
@@ -78,12 +71,13 @@ TEST(NdtRegistrationMrpt, AlignsARealLidarScanThroughTheBaseClass) {
 
   // The wrong map types are refused with a message.
   mrpt::maps::CSimplePointsMap points;
-  EXPECT_NE(errorOf([&] { aligner.Align3D(&points, scan.get(), guess); }).find("CNDTOccupancyMap"),
-            std::string::npos);
-  EXPECT_NE(errorOf([&] { aligner.Align3D(&map, &map, guess); }).find("CPointsMap"),
+  EXPECT_NE(
+      thrownMessage([&] { aligner.Align3D(&points, scan.get(), guess); }).find("CNDTOccupancyMap"),
+      std::string::npos);
+  EXPECT_NE(thrownMessage([&] { aligner.Align3D(&map, &map, guess); }).find("CPointsMap"),
             std::string::npos);
   mrpt::maps::CSimplePointsMap empty;
-  EXPECT_NE(errorOf([&] { aligner.Align3D(&map, &empty, guess); }).find("no finite point"),
+  EXPECT_NE(thrownMessage([&] { aligner.Align3D(&map, &empty, guess); }).find("no finite point"),
             std::string::npos);
 }
 
@@ -159,7 +153,7 @@ TEST(NdtRegistrationMrpt, OptionsRoundTripThroughIniText) {
   };
   for (const auto& [body, option] : bad) {
     CNDTRegistration::TConfigParams p;
-    const std::string msg = errorOf(
+    const std::string msg = thrownMessage(
         [&] { p.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s"); });
     EXPECT_NE(msg.find("[s] " + option), std::string::npos) << body << " -> " << msg;
   }

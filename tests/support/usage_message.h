@@ -5,17 +5,13 @@
 #include <string>
 
 #include "ndtom_apps/option_values.h"
+#include "support/thrown_message.h"
 
 namespace ndtom::testing {
 
 /// The message of the apps::UsageError `f` throws; "" if it throws none.
 inline std::string usageMessage(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const apps::UsageError& e) {
-    return e.what();
-  }
-  return "";
+  return thrownMessage<apps::UsageError>(f);
 }
 
 }  // namespace ndtom::testing

@@ -1,18 +1,22 @@
 #include "ndtom_apps/csv_table.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 
 namespace ndtom::apps {
 
-CsvCell::CsvCell(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.10g", v);
-  text = buffer;
+CsvCell::CsvCell(double v) : CsvCell(formatted("%.10g", v)) {}
+
+CsvCell CsvCell::formatted(const char* format, double v) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), format, v);
+  return CsvCell(std::string(buffer));
 }
 
 void CsvTable::addRow(const std::vector<CsvCell>& cells) {
@@ -39,16 +43,25 @@ std::vector<double> CsvTable::column(const std::string& name) const {
   return values;
 }
 
-void CsvTable::write(const std::string& path) const {
-  std::ofstream out(path);
-  auto writeLine = [&](const std::vector<std::string>& fields) {
-    for (size_t i = 0; i < fields.size(); ++i) out << (i ? "," : "") << fields[i];
-    out << '\n';
+std::string CsvTable::text() const {
+  std::string out;
+  auto addLine = [&](const std::vector<std::string>& fields) {
+    for (size_t i = 0; i < fields.size(); ++i) (out += i ? "," : "") += fields[i];
+    out += '\n';
   };
-  writeLine(columns_);
-  for (const auto& row : rows_) writeLine(row);
-  out.close();
-  if (!out) throw std::runtime_error("cannot write " + path);
+  addLine(columns_);
+  for (const auto& row : rows_) addLine(row);
+  return out;
+}
+
+void CsvTable::write(const std::string& path) const {
+  errno = 0;
+  std::ofstream out(path, std::ios::binary);
+  out << text();
+  out.close();  // flushes: a full disk shows here
+  if (!out)
+    throw std::runtime_error("cannot write " + path +
+                             (errno ? std::string(": ") + std::strerror(errno) : std::string()));
 }
 
 }  // namespace ndtom::apps

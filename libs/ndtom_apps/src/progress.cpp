@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "ndtom_apps/process_clock.h"
+
 namespace ndtom::apps {
 namespace {
 
@@ -99,7 +101,7 @@ ProgressState Progress::state() const {
   s.done = done_;
   s.total = total_;
   s.points = points_;
-  s.elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  s.elapsed = secondsSince(start_);
   s.rate_seconds = timed_seconds_.value_or(s.elapsed);
   return s;
 }

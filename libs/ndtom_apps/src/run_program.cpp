@@ -2,16 +2,38 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <iostream>
 #include <new>
 
 #include "ndtom_apps/option_values.h"
 
 namespace ndtom::apps {
 
+namespace {
+
+// Whether what the program printed reached the standard output: a full disk behind a
+// redirection fails the run like any other write. `why`: the reason, where the system gave one.
+bool standardOutputWritten(std::string& why) {
+  errno = 0;
+  std::cout.flush();  // std::cout writes through stdout: this flushes both
+  const bool written = std::fflush(stdout) == 0 && !std::ferror(stdout) && std::cout.good();
+  // A write that failed earlier, when the buffer filled, left only the error flag: no reason.
+  if (!written && errno) why = std::string(": ") + std::strerror(errno);
+  return written;
+}
+
+}  // namespace
+
 int runProgram(const std::string& name, const std::function<int()>& body) {
   try {
-    return body();
+    const int status = body();
+    std::string why;
+    if (standardOutputWritten(why)) return status;
+    std::fprintf(stderr, "%s: cannot write the standard output%s\n", name.c_str(), why.c_str());
+    return 1;
   } catch (const UsageError& e) {
     std::fprintf(stderr, "%s: %s\n", name.c_str(), e.what());
     return 2;

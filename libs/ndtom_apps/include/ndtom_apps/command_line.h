@@ -51,6 +51,16 @@ struct OptionSpec {
 template <typename Options>
 using OptionTable = std::map<std::string, OptionSpec<Options>>;
 
+/// `table` and --help, -h, --quiet, -q, which set `help` and `quiet` in any program's options.
+template <typename Options>
+OptionTable<Options> withHelpAndQuiet(OptionTable<Options> table) {
+  const auto help = [](Options& o, const std::string&) { o.help = true; };
+  const auto quiet = [](Options& o, const std::string&) { o.quiet = true; };
+  for (const char* name : {"--help", "-h"}) table[name] = {false, help};
+  for (const char* name : {"--quiet", "-q"}) table[name] = {false, quiet};
+  return table;
+}
+
 /// Sets `options` from argv[1..argc-1] through `table` (splitArguments' rules) and returns the
 /// positional arguments in order.
 template <typename Options>

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,10 @@ struct CsvCell {
   CsvCell(std::string s) : text(std::move(s)) {}
   CsvCell(double v);
   CsvCell(int v) : text(std::to_string(v)) {}
+  CsvCell(int64_t v) : text(std::to_string(v)) {}
   CsvCell(size_t v) : text(std::to_string(v)) {}
+  /// `v` in a printf format of one double ("%.6f", "%g"), for columns with a set precision.
+  static CsvCell formatted(const char* format, double v);
 };
 
 class CsvTable {
@@ -28,7 +32,10 @@ class CsvTable {
   /// fields that are not numbers.
   std::vector<double> column(const std::string& name) const;
   size_t numRows() const { return rows_.size(); }
-  /// Writes the file; throws std::runtime_error naming the path on failure.
+  /// The file's content.
+  std::string text() const;
+  /// Writes the file; throws std::runtime_error naming the path and the reason if it cannot be
+  /// written whole (no folder, a full disk, ...).
   void write(const std::string& path) const;
 
  private:
