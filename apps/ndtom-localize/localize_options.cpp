@@ -116,6 +116,11 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
         [](O& o, const std::string& v) {
           o.tracking.registration.min_matched_fraction = parseReal("--min-matched-fraction", v);
         }}},
+      {"--min-judged-fraction",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.registration.min_judged_fraction = parseReal("--min-judged-fraction", v);
+        }}},
       {"--max-free-fraction",
        {true,
         [](O& o, const std::string& v) {
@@ -235,7 +240,8 @@ std::string helpText() {
       "  --max-points N            P2D: scan points per level at most (6000)\n"
       "  --max-iterations N        Newton iterations per level (30)\n"
       "  --outlier-ratio R         the score's outlier fraction, in (0, 1) (0.55)\n"
-      "  --min-matched-fraction F  verdict: matched part of the scan, in [0, 1] (0.4)\n"
+      "  --min-matched-fraction F  verdict: matched part of what the map can judge (0.4)\n"
+      "  --min-judged-fraction F   verdict: scan share where the map has looked (0.15)\n"
       "  --max-free-fraction F     verdict: scan share in open free space, at most (0.05)\n"
       "  --planar                  only x, y and yaw change (2D)\n"
       "  --threads N               threads; the result is the same for any (all cores)\n"

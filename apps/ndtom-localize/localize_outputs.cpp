@@ -52,6 +52,7 @@ void writeScan(apps::JsonWriter& j, const ScanRecord& r) {
   }
   j.field("score", r.result.score);
   j.field("matched_fraction", r.result.matched_fraction);
+  j.field("judged_fraction", r.result.judged_fraction);
   j.field("free_fraction", r.result.free_fraction);
   j.field("seconds", r.seconds);
   if (r.pose) writePose(j, "pose_xyz_qxyzw", *r.pose);
@@ -92,7 +93,7 @@ std::string trajectoryTum(const TrackingResult& tracking) {
 std::string scansCsv(const TrackingResult& tracking) {
   apps::CsvTable table({"index", "time", "outcome", "found_by", "registrations", "x", "y", "z",
                         "qx", "qy", "qz", "qw", "error_m", "error_deg", "matched_fraction",
-                        "free_fraction", "seconds", "map_bytes", "rss_bytes"});
+                        "judged_fraction", "free_fraction", "seconds", "map_bytes", "rss_bytes"});
   const auto g9 = [](double v) { return apps::CsvCell::formatted("%.9g", v); };
   for (const ScanRecord& r : tracking.scans) {
     std::vector<apps::CsvCell> row = {r.index, apps::CsvCell::formatted("%.6f", r.time),
@@ -107,7 +108,7 @@ std::string scansCsv(const TrackingResult& tracking) {
     const auto e = errorOf(r);
     row.insert(row.end(), {e ? std::to_string(e->translation) : "",
                            e ? std::to_string(e->rotation) : "", g9(r.result.matched_fraction),
-                           g9(r.result.free_fraction), g9(r.seconds), r.map_bytes, r.rss_bytes});
+                           g9(r.result.judged_fraction), g9(r.result.free_fraction), g9(r.seconds), r.map_bytes, r.rss_bytes});
     table.addRow(row);
   }
   return table.text();
@@ -148,6 +149,7 @@ std::string summaryJson(const LocalizeSummary& s) {
   j.field("max_range", ro.max_range);
   j.field("max_points", ro.max_points);
   j.field("min_matched_fraction", ro.min_matched_fraction);
+  j.field("min_judged_fraction", ro.min_judged_fraction);
   j.field("max_free_fraction", ro.max_free_fraction);
   j.field("planar", ro.planar);
   j.field("threads", ro.threads);

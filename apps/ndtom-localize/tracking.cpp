@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "motion_prediction.h"
+#include "ndtom/localization/motion_prediction.h"
 #include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 

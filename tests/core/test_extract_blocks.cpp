@@ -1,5 +1,6 @@
 // NdtMap::extractBlocks and extractBlockRange (the out-of-core build's tiles): the range form
-// takes exactly what the predicate form takes, by either of its two paths.
+// takes exactly what the predicate form takes, by either of its two paths; copyBlocks (the
+// online mapper's registration target) copies what extractBlocks would move.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -45,6 +46,30 @@ TEST(ExtractBlocks, RangeTakesWhatThePredicateTakes) {
     ndtom::testing::expectBitIdentical(by_range, by_predicate);
     EXPECT_EQ(taken.numCells() + by_range.numCells(), map.numCells());
   }
+}
+
+// A copy of the blocks is what moving them out gives, bit for bit, its memory counted the
+// same, and the source keeps every block.
+TEST(CopyBlocks, CopiesWhatExtractionWouldMoveAndLeavesTheMap) {
+  NdtMap map;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int32_t> coord(-40, 40);
+  for (int i = 0; i < 2000; ++i) {
+    const CellStats stats = CellStats::fromPoints(
+        {Eigen::Vector3d(0.01 * (i % 5), 0, 0.02), {-0.01, 0.02, 0}, {0, -0.02, 0.01}});
+    map.setCell({coord(rng), coord(rng), coord(rng)}, i % 2 ? 1.0f : -0.5f,
+                i % 2 ? stats : CellStats{});
+  }
+  const NdtMap before = map;
+  const auto take = [](const CellIndex& b) { return b.x >= 0 && b.y < 2; };
+  const NdtMap copy = ndtom::copyBlocks(map, take);
+  ndtom::testing::expectBitIdentical(map, before);
+  NdtMap moved_from = map;
+  const NdtMap moved = ndtom::extractBlocks(moved_from, take);
+  ASSERT_GT(moved.numCells(), 100u);
+  ndtom::testing::expectBitIdentical(copy, moved);
+  EXPECT_EQ(copy.memoryBytes(), copy.memoryBytesCounted());
+  EXPECT_NE(copy.revision(), map.revision());
 }
 
 }  // namespace

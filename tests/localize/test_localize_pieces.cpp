@@ -9,12 +9,14 @@
 
 #include "localize_options.h"
 #include "mapper/mapper_run.h"
-#include "motion_prediction.h"
+#include "ndtom/localization/motion_prediction.h"
 #include "ndtom/files/tiled_map_io.h"
 #include "ndtom_apps/option_values.h"
 #include "region_map.h"
 
 using namespace ndtom::localizer;
+using ndtom::ConstantVelocity;
+using ndtom::scaledMotion;
 using Eigen::Isometry3d;
 using Eigen::Vector3d;
 

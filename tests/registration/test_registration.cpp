@@ -276,6 +276,49 @@ TEST(Registration, FreeSpaceAttractsNothing) {
   EXPECT_NE(level.find(map.geometry().cellOf(behind[100])), nullptr);
 }
 
+// The map of scans 0-4 seen only through a 100° wedge in front of the sensor: most of scan 5
+// lands where that map has never looked. Those points are neither matches nor misses, so the
+// scan is placed, and the verdict says how little of it the map could judge; without
+// occupancy a map cannot tell never-seen from free, and the same scan fails.
+TEST(Registration, ScanSeeingTheMapInPartIsPlacedByWhatTheMapKnows) {
+  const RealCase& full = realCase();
+  const Isometry3d& truth = full.poses[RealCase::kLeftOut];
+  for (const bool occupancy : {true, false}) {
+    MapOptions mo = RealCase::mapOptions();
+    mo.occupancy.enabled = occupancy;
+    NdtMap wedge(mo);
+    for (int i = 0; i < RealCase::kLeftOut; ++i) {
+      const auto cloud = io::readPcd(kBalm + "/full" + std::to_string(i) + ".pcd");
+      std::vector<Vector3d> world;
+      for (const Vector3d& p : cloud.points)
+        if (p.allFinite() && p.norm() > 0.5 && std::abs(std::atan2(p.y(), p.x())) < 50 * kDeg)
+          world.push_back(full.poses[i] * p);
+      wedge.insertScan(world, full.poses[i].translation());
+    }
+    NdtRegistration registration;
+    const Isometry3d guess = truth * poseOf(Vector3d(0.3, -0.2, 0.05), 3 * kDeg, Vector3d::UnitZ());
+    const RegistrationResult r = registration.align(wedge, full.scan, guess);
+    if (occupancy) {
+      EXPECT_TRUE(r.converged) << r.failure;
+      EXPECT_LT(translationError(r.pose, truth), 0.05);
+      EXPECT_LT(r.judged_fraction, 0.6);
+      EXPECT_GT(r.judged_fraction, 0.15);
+      EXPECT_GT(r.matched_fraction, 0.6);
+      // Asked to judge most of the scan, the same map cannot.
+      RegistrationOptions strict;
+      strict.min_judged_fraction = 0.9;
+      registration.setOptions(strict);
+      const RegistrationResult s = registration.align(wedge, full.scan, guess);
+      EXPECT_FALSE(s.converged);
+      EXPECT_NE(s.failure.find("min_judged_fraction"), std::string::npos) << s.failure;
+    } else {
+      EXPECT_EQ(r.judged_fraction, 1.0);
+      EXPECT_LT(r.matched_fraction, 0.4);
+      EXPECT_FALSE(r.converged);
+    }
+  }
+}
+
 TEST(Registration, ScanPointsInOpenFreeSpaceFailTheVerdict) {
   // The room's map knows its inside is free. A scan of the room with points spread through
   // a 2 x 2 x 1 m volume in its middle (objects the map never had) still aligns; with 0.5 %

@@ -56,6 +56,8 @@ void CNDTRegistration::TConfigParams::loadFromConfigFile(
                                             (long long)o.max_points, 10, 100000000));
   o.min_matched_fraction =
       source.read_double(section, "min_matched_fraction", o.min_matched_fraction);
+  o.min_judged_fraction =
+      source.read_double(section, "min_judged_fraction", o.min_judged_fraction);
   o.max_free_fraction = source.read_double(section, "max_free_fraction", o.max_free_fraction);
   o.planar = source.read_bool(section, "planar", o.planar);
   o.threads = int(detail::readInteger(source, section, "threads", o.threads, 1,
@@ -91,7 +93,11 @@ void CNDTRegistration::TConfigParams::saveToConfigFile(mrpt::config::CConfigFile
   c.write(s, "max_points", o.max_points, mrpt::config::MRPT_SAVE_NAME_PADDING(),
           mrpt::config::MRPT_SAVE_VALUE_PADDING(), "P2D: scan points per level at most");
   c.write(s, "min_matched_fraction", o.min_matched_fraction, mrpt::config::MRPT_SAVE_NAME_PADDING(),
-          mrpt::config::MRPT_SAVE_VALUE_PADDING(), "Verdict: matched part of the scan, in [0, 1]");
+          mrpt::config::MRPT_SAVE_VALUE_PADDING(),
+          "Verdict: matched part of what the map can judge, in [0, 1]");
+  c.write(s, "min_judged_fraction", o.min_judged_fraction, mrpt::config::MRPT_SAVE_NAME_PADDING(),
+          mrpt::config::MRPT_SAVE_VALUE_PADDING(),
+          "Verdict: scan share where the map has looked, at least");
   c.write(s, "max_free_fraction", o.max_free_fraction, mrpt::config::MRPT_SAVE_NAME_PADDING(),
           mrpt::config::MRPT_SAVE_VALUE_PADDING(), "Verdict: scan share in open free space, at most");
   c.write(s, "planar", o.planar, mrpt::config::MRPT_SAVE_NAME_PADDING(),

@@ -31,4 +31,15 @@ std::vector<Eigen::Vector3d> pointsInFrame(const Scan& scan) {
   return out;
 }
 
+void placeAt(Scan& scan, const Eigen::Isometry3d& pose) {
+  if (scan.place_at) {
+    scan.place_at(pose, scan);
+  } else {
+    const Eigen::Isometry3d frame_to_pose = pose * scan.frame_pose.inverse();
+    for (Eigen::Vector3d& p : scan.points_world) p = frame_to_pose * p;
+    scan.sensor_origin = frame_to_pose * scan.sensor_origin;
+  }
+  scan.frame_pose = pose;
+}
+
 }  // namespace ndtom::apps

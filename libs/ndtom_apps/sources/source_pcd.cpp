@@ -29,6 +29,7 @@ class PcdFolderSource : public ScanSource {
     options.poses_file = s.poses_file;
     options.pose_format = s.pose_format;
     options.poses_required = false;  // said below, with the option that gives them
+    options.read_poses = s.use_poses;
     try {
       folder_.emplace(s.input, options);
     } catch (const std::exception& e) {
@@ -61,6 +62,14 @@ class PcdFolderSource : public ScanSource {
     scan.frame_pose = sensor_to_world;
     scan.pose_kind = has_pose ? Scan::PoseKind::Reference : Scan::PoseKind::None;
     scan.sensor_origin = sensor_to_world * cloud.viewpoint.translation();
+    if (!has_pose) {  // placed later (online mapping): the frame's points are kept for it
+      const Eigen::Vector3d origin = cloud.viewpoint.translation();
+      scan.place_at = [sensor = cloud.points, origin](const Eigen::Isometry3d& pose, Scan& out) {
+        out.sensor_origin = pose * origin;
+        out.points_world.resize(sensor.size());
+        for (size_t i = 0; i < sensor.size(); ++i) out.points_world[i] = pose * sensor[i];
+      };
+    }
     // In place: a second copy of a large cloud would double the reader's memory.
     for (Eigen::Vector3d& p : cloud.points) p = sensor_to_world * p;
     scan.points_world = std::move(cloud.points);

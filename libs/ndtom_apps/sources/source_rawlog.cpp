@@ -27,7 +27,7 @@ class RawlogSource : public ScanSource {
         poses_optional_(s.poses_optional) {
     if (std::filesystem::is_directory(path_))
       throw apps::UsageError(path_ + ": a folder, not a rawlog");
-    if (!s.poses_file.empty()) {
+    if (!s.poses_file.empty() && s.use_poses) {
       requireRegularFile("--poses", s.poses_file);
       trajectory_.emplace(s.poses_file, s.pose_format, s.pose_time_tolerance);
     }
@@ -100,13 +100,22 @@ class RawlogSource : public ScanSource {
     scan.frame_pose = mrpt_ndtom::toIsometry(pose);
     scan.name = "observation " + std::to_string(index) + " (" +
                 entry.observation->GetRuntimeClass()->className + ")";
-    try {
-      auto points = mrpt_ndtom::observationPoints(*entry.observation, pose, extraction_);
-      scan.points_world = std::move(points->points_world);
-      scan.sensor_origin = points->sensor_origin;
-    } catch (const std::exception& e) {
-      throw InputError(path_ + ": " + scan.name + ": " + apps::oneLineMessage(e));
-    }
+    // The same projection for a pose given later (online mapping), by the same arithmetic.
+    const auto project = [observation = entry.observation, extraction = extraction_,
+                          where = path_ + ": " + scan.name](const mrpt::poses::CPose3D& at,
+                                                            Scan& out) {
+      try {
+        auto points = mrpt_ndtom::observationPoints(*observation, at, extraction);
+        out.points_world = std::move(points->points_world);
+        out.sensor_origin = points->sensor_origin;
+      } catch (const std::exception& e) {
+        throw InputError(where + ": " + apps::oneLineMessage(e));
+      }
+    };
+    project(pose, scan);
+    scan.place_at = [project](const Eigen::Isometry3d& at, Scan& out) {
+      project(toCPose3D(at), out);
+    };
     return scan;
   }
 

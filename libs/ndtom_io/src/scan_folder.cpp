@@ -46,6 +46,7 @@ ScanFolder::ScanFolder(const std::string& folder, const ScanFolderOptions& optio
   if (files_.empty()) throw ScanFolderError(folder_ + ": no .pcd files");
   poses_path_ =
       options.poses_file.empty() ? (fs::path(folder_) / "poses.txt").string() : options.poses_file;
+  if (!options.read_poses) return;
   if (!fs::exists(poses_path_)) {
     if (options.poses_required || !options.poses_file.empty())
       throw ScanFolderError(poses_path_ + ": no pose file");

@@ -72,6 +72,15 @@ PoseInformation NdtObjective::information(const Eigen::Isometry3d& pose) const {
       [&](size_t i, PoseInformation& out) { informationOfItem(pose, i, out); });
 }
 
+bool NdtObjective::matches(const Eigen::Isometry3d& pose, size_t i) const {
+  ObjectiveValue one;
+  if (method_ == RegistrationMethod::P2D)
+    scorePoint(pose, i, false, one);
+  else
+    scoreGaussian(pose, i, false, one);
+  return one.matched > 0;
+}
+
 // P2D (Magnusson 2009, eq. 6.12-6.13, in our parameters): f = d1·exp(−d2/2·s), s = eᵀCe,
 // e = y − μ, y = q + t, q = R·x. With a = Ce and j = (a, q × a):
 //   ∇f = −d2·f·j,   ∇²f = d2·f·[d2·j·jᵀ − JᵀCJ − diag(0, ½(a·qᵀ + q·aᵀ) − (a·q)·I)].

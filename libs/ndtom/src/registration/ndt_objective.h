@@ -40,6 +40,8 @@ class NdtObjective {
 
   ObjectiveValue evaluate(const Eigen::Isometry3d& pose, bool derivatives) const;
   PoseInformation information(const Eigen::Isometry3d& pose) const;
+  /// Whether scan item `i` at `pose` lies within 3σ of a map Gaussian (counted as matched).
+  bool matches(const Eigen::Isometry3d& pose, size_t i) const;
 
  private:
   static constexpr size_t kChunk = 256;  // scan items per partial sum

@@ -145,6 +145,8 @@ void validate(const RegistrationOptions& o) {
   if (o.max_points < 10) failOption("max_points", double(o.max_points), "must be >= 10");
   if (!(o.min_matched_fraction >= 0 && o.min_matched_fraction <= 1))
     failOption("min_matched_fraction", o.min_matched_fraction, "must be in [0, 1]");
+  if (!(o.min_judged_fraction >= 0 && o.min_judged_fraction <= 1))
+    failOption("min_judged_fraction", o.min_judged_fraction, "must be in [0, 1]");
   if (!(o.max_free_fraction >= 0 && o.max_free_fraction <= 1))
     failOption("max_free_fraction", o.max_free_fraction, "must be in [0, 1]");
   if (!(o.threads >= 1 && o.threads <= ScanOptions::kMaxThreads))
@@ -241,11 +243,16 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   // The finest level's fit, the pose's covariance, and the verdict.
   const LevelReport& last = result.levels.back();
   result.score = last.score;
-  result.matched_fraction = last.matched_fraction;
-  result.free_fraction = freeFraction(map, levels.back(), result.pose);
+  const SpaceFractions space = spaceFractions(map, objectives.back(), levels.back(), result.pose);
+  result.free_fraction = space.free;
+  result.judged_fraction = 1 - space.unknown;
+  // Matched items are judged ones: of those, the matched share.
+  result.matched_fraction =
+      result.judged_fraction > 0 ? std::min(1.0, last.matched_fraction / result.judged_fraction)
+                                 : 0.0;
   const PoseCovariance covariance = poseCovariance(objectives.back(), result.pose, o.planar);
   result.covariance = covariance.covariance;
-  result.failure = verdict(last, result.free_fraction, covariance.constrained, o);
+  result.failure = verdict(result, covariance.constrained, o);
   result.converged = result.failure.empty();
   result.seconds = secondsSince(start);
   return result;

@@ -27,16 +27,26 @@ bool inOpenFreeSpace(const NdtMap& map, const CellIndex& cell) {
 
 }  // namespace
 
-double freeFraction(const NdtMap& map, const ScanLevel& level, const Eigen::Isometry3d& pose) {
-  if (!map.options().occupancy.enabled || level.size() == 0) return 0;
-  size_t free = 0;
-  auto count = [&](const Eigen::Vector3d& item) {
-    const Eigen::Vector3d p = pose * item;
-    free += map.geometry().inRange(p) && inOpenFreeSpace(map, map.geometry().cellOf(p));
-  };
-  for (const Eigen::Vector3d& p : level.points) count(p);
-  for (const ScanGaussian& g : level.gaussians) count(g.mean);
-  return double(free) / double(level.size());
+SpaceFractions spaceFractions(const NdtMap& map, const NdtObjective& finest, const ScanLevel& level,
+                              const Eigen::Isometry3d& pose) {
+  SpaceFractions out;
+  if (!map.options().occupancy.enabled || level.size() == 0) return out;
+  size_t free = 0, unknown = 0;
+  for (size_t i = 0; i < level.size(); ++i) {
+    const Eigen::Vector3d p = pose * (level.points.empty() ? level.gaussians[i].mean : level.points[i]);
+    if (!map.geometry().inRange(p)) {
+      unknown += !finest.matches(pose, i);
+      continue;
+    }
+    const CellIndex cell = map.geometry().cellOf(p);
+    if (!map.cell(cell))
+      unknown += !finest.matches(pose, i);
+    else
+      free += inOpenFreeSpace(map, cell);
+  }
+  out.free = double(free) / double(level.size());
+  out.unknown = double(unknown) / double(level.size());
+  return out;
 }
 
 PoseCovariance poseCovariance(const NdtObjective& finest, const Eigen::Isometry3d& pose,
@@ -62,16 +72,18 @@ PoseCovariance poseCovariance(const NdtObjective& finest, const Eigen::Isometry3
   return out;
 }
 
-std::string verdict(const LevelReport& finest, double free_fraction, bool constrained,
-                    const RegistrationOptions& o) {
+std::string verdict(const RegistrationResult& r, bool constrained, const RegistrationOptions& o) {
   std::ostringstream why;
-  if (!finest.converged) {
+  if (!r.levels.back().converged) {
     why << "the finest level did not converge in " << o.max_iterations << " iterations";
-  } else if (finest.matched_fraction < o.min_matched_fraction) {
-    why << "only " << finest.matched_fraction
-        << " of the scan matched the map (min_matched_fraction " << o.min_matched_fraction << ")";
-  } else if (free_fraction > o.max_free_fraction) {
-    why << free_fraction << " of the scan lies in open space the map has seen free "
+  } else if (r.judged_fraction < o.min_judged_fraction) {
+    why << "only " << r.judged_fraction << " of the scan lies where the map has looked "
+        << "(min_judged_fraction " << o.min_judged_fraction << ")";
+  } else if (r.matched_fraction < o.min_matched_fraction) {
+    why << "only " << r.matched_fraction << " of the scan the map can judge matched it "
+        << "(min_matched_fraction " << o.min_matched_fraction << ")";
+  } else if (r.free_fraction > o.max_free_fraction) {
+    why << r.free_fraction << " of the scan lies in open space the map has seen free "
         << "(max_free_fraction " << o.max_free_fraction << ")";
   } else if (!constrained) {
     why << "the matched part of the scan does not constrain all six degrees of freedom";

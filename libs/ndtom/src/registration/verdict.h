@@ -12,9 +12,15 @@
 
 namespace ndtom::registration {
 
-/// The fraction of the level's scan items (points or Gaussian means) that `pose` puts in open
-/// free space; 0 for a map without occupancy.
-double freeFraction(const NdtMap& map, const ScanLevel& level, const Eigen::Isometry3d& pose);
+/// Where the finest level's scan items land at `pose`, as fractions of them: in open free
+/// space, and in space the map has never observed without matching it (unknown). Both 0 for a
+/// map without occupancy, where unobserved and free space cannot be told apart.
+struct SpaceFractions {
+  double free = 0;
+  double unknown = 0;
+};
+SpaceFractions spaceFractions(const NdtMap& map, const NdtObjective& finest, const ScanLevel& level,
+                              const Eigen::Isometry3d& pose);
 
 /// The pose's covariance over the free parameters (fixed ones get zero rows and columns), from
 /// the finest level's information, and whether the matched terms constrain every free one.
@@ -26,8 +32,9 @@ PoseCovariance poseCovariance(const NdtObjective& finest, const Eigen::Isometry3
                               bool planar);
 
 /// Why the registration failed ("" if it did not): the finest level did not converge, too
-/// little of the scan matched, too much lies in open free space, or the pose is unconstrained.
-std::string verdict(const LevelReport& finest, double free_fraction, bool constrained,
+/// little of the scan could be judged or matched, too much lies in open free space, or the
+/// pose is unconstrained. `result` holds the finest level's figures.
+std::string verdict(const RegistrationResult& result, bool constrained,
                     const RegistrationOptions& options);
 
 }  // namespace ndtom::registration

@@ -56,6 +56,19 @@ NdtMap extractBlockRange(NdtMap& map, const CellIndex& lo, const CellIndex& hi) 
   return out;
 }
 
+NdtMap copyBlocks(const NdtMap& map, const std::function<bool(const CellIndex& block)>& take) {
+  NdtMap out(map.options());
+  Blocks& blocks = MapInternals::grid(out).blocks();
+  for (const auto& [index, block] : MapInternals::grid(map).blocks()) {
+    if (!take(index)) continue;
+    auto copy = std::make_unique<MapBlock>(*block);
+    MapInternals::countBlocks(out, copy->known.count(), statsBytes(copy->stats));
+    blocks.emplace(index, std::move(copy));
+  }
+  MapInternals::touch(out);
+  return out;
+}
+
 void absorbBlocks(NdtMap& map, NdtMap&& other) {
   if (other.options().resolution != map.options().resolution)
     throw std::invalid_argument("absorbBlocks: the maps' resolutions differ");

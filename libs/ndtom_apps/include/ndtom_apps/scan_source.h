@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -38,6 +39,11 @@ struct Scan {
   PoseKind pose_kind = PoseKind::Reference;
   double time = 0;   ///< seconds (the scan's index where the input has no time)
   std::string name;  ///< for messages: a file name or "observation 12"
+  /// Sets points_world and sensor_origin to what the source yields with the frame at `pose`
+  /// (a pose file naming it), by the same arithmetic: online mapping inserts its scans so,
+  /// and ndtom-map --poses with its trajectory rebuilds its map bit for bit. Empty where a
+  /// source cannot (placeAt() then transforms pointsInFrame()).
+  std::function<void(const Eigen::Isometry3d& pose, Scan& scan)> place_at;
 };
 
 /// What a source skipped, by reason, for the summary.
@@ -83,6 +89,9 @@ struct SourceSettings {
   /// skipped (localization estimates the poses): a PCD folder without poses.txt, rawlog
   /// scans without odometry.
   bool poses_optional = false;
+  /// False: scans come without the input's own poses (PCD poses.txt, --poses), in their own
+  /// frame; a rawlog's odometry still comes (online mapping predicts with it).
+  bool use_poses = true;
 };
 
 /// One time stamp per scan from a times.txt beside PCD scans (line i: the i-th scan's time),
@@ -92,6 +101,9 @@ std::vector<double> readScanTimes(const std::string& path, size_t scans);
 
 /// The scan's points in its own frame (Scan::frame_pose).
 std::vector<Eigen::Vector3d> pointsInFrame(const Scan& scan);
+/// The scan moved to `pose`: frame_pose, points_world and sensor_origin as the source would
+/// give them with that pose (Scan::place_at), else transformed from the frame.
+void placeAt(Scan& scan, const Eigen::Isometry3d& pose);
 
 /// Opens the input (detecting its format if Auto) and checks it can be read completely:
 /// files exist, poses match the scans. Throws apps::UsageError or InputError.

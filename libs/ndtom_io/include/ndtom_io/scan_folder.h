@@ -45,6 +45,8 @@ struct ScanFolderOptions {
   /// Without it, a folder with no pose file is an error; with it, its scans have no poses
   /// (hasPoses() false). A pose file named in `poses_file` must exist either way.
   bool poses_required = true;
+  /// False: the pose file is not read even if there is one (scans mapped without poses).
+  bool read_poses = true;
 };
 
 class ScanFolder {

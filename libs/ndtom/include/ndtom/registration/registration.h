@@ -57,9 +57,15 @@ struct RegistrationOptions {
   double voxel_ratio = 0.5;
   /// ... and to at most this many of them per level, evenly spread (Default: 6000).
   size_t max_points = 6000;
-  /// Verdict: the fraction of scan points (P2D) or scan Gaussians (D2D) within 3σ of a map
-  /// Gaussian at the finest level must reach this (Default: 0.4) ...
+  /// Verdict: of the scan points (P2D) or scan Gaussians (D2D) the map can judge, the
+  /// fraction within 3σ of a map Gaussian at the finest level must reach this (Default: 0.4).
+  /// With occupancy, the map judges what lands in space it has observed (a known cell) or
+  /// matches; what lands where it has never looked is neither a match nor a miss, so a scan
+  /// that overlaps the map in part is placed. Without occupancy every item is judged ...
   double min_matched_fraction = 0.4;
+  /// ... and the judged fraction of the scan must reach this: below it, too little of the
+  /// scan overlaps what the map knows to tell a right pose from a wrong one (Default: 0.15).
+  double min_judged_fraction = 0.15;
   /// ... and at most this fraction of them may lie in open free space: cells the map has seen
   /// free (log-odds < 0) with no occupied cell among the 26 around them. A scan slid along a
   /// repetitive structure puts its points there, a right pose only those of moving objects
@@ -95,10 +101,11 @@ struct RegistrationResult {
   Matrix6d covariance = Matrix6d::Identity();
   std::vector<LevelReport> levels;  ///< coarse to fine
   double score = 0;                 ///< finest level's score per scan item
-  double matched_fraction = 0;      ///< finest level's
+  double matched_fraction = 0;      ///< finest level's, of the judged items
+  double judged_fraction = 0;       ///< of the finest level's items, in space the map knows
   double free_fraction = 0;         ///< of the finest level's scan items, in open free space
-  /// The verdict: the finest level converged, matched enough of the scan and put little of
-  /// it in free space. When false, `pose` is the last estimate and `failure` says why.
+  /// The verdict: the finest level converged, the map could judge enough of the scan and
+  /// matched enough of that, and little of it lies in free space. When false, `pose` is the last estimate and `failure` says why.
   bool converged = false;
   std::string failure;
   double seconds = 0;  ///< the whole call, pyramid (re)building included

@@ -1,9 +1,9 @@
-#include "motion_prediction.h"
+#include "ndtom/localization/motion_prediction.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace ndtom::localizer {
+namespace ndtom {
 
 namespace {
 
@@ -48,4 +48,4 @@ void ConstantVelocity::update(const Eigen::Isometry3d& pose, double time) {
   last_time_ = time;
 }
 
-}  // namespace ndtom::localizer
+}  // namespace ndtom

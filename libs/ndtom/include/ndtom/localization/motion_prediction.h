@@ -1,11 +1,12 @@
 // Where the next scan was taken, before registration: the last pose moved again by the last
 // motion (constant velocity), scaled by the ratio of the time steps when the scans are timed.
+// Tracking in a prior map (ndtom-localize) and online mapping (OnlineMapper) predict so.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <optional>
 
-namespace ndtom::localizer {
+namespace ndtom {
 
 class ConstantVelocity {
  public:
@@ -29,4 +30,4 @@ class ConstantVelocity {
 /// is the motion done twice, 0.5 half of it.
 Eigen::Isometry3d scaledMotion(const Eigen::Isometry3d& motion, double factor);
 
-}  // namespace ndtom::localizer
+}  // namespace ndtom

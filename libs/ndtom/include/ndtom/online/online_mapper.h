@@ -1,0 +1,118 @@
+// Online NDT-OM (the paper's online mapping, and its next step: NDT-OM with NDT registration
+// as odometry): each scan is registered against the map built so far, coarse to fine, then
+// inserted at the pose found. No pose from elsewhere is needed; a motion since the previous
+// scan (wheel odometry) only improves the prediction.
+//
+// Per scan: predict (odometry, else constant velocity), register against the map's region
+// around the prediction (occupied Gaussians only, so what moved away attracts nothing), and
+// if the verdict fails retry from the last pose, then search x, y and yaw around the
+// prediction (large turns between slow scans). Where the scene leaves a direction
+// unconstrained (flat ground, a corridor: large variance in the registration's covariance)
+// the pose keeps the prediction along it instead of sliding. A scan nothing places is lost:
+// its pose is the prediction and it is not inserted, so the map never takes a wrong pose.
+//
+// Threading: one scan at a time; `threads` run inside registration and insertion.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ndtom/localization/global_localization.h"
+#include "ndtom/map/ndt_map.h"
+#include "ndtom/registration/registration.h"
+
+namespace ndtom {
+
+struct OnlineMapperOptions {
+  MapOptions map;  ///< the map built (resolution, occupancy, insertion, memory budget)
+  RegistrationOptions registration;
+  /// The registration target: the map's blocks within this distance (m) of the predicted
+  /// sensor position (Default: 80 m, past a typical lidar's useful range).
+  double target_radius = 80;
+  /// The target is cut again from the map after the sensor moved this far (m) or turned
+  /// this much (degrees) since it was last cut, or after `target_max_scans` scans (Default:
+  /// 0 m, 0°, 1 scan: every scan, the map as of the previous scan).
+  double target_refresh_distance = 0;
+  double target_refresh_angle_deg = 0;
+  int target_max_scans = 1;
+  /// When the registrations from the prediction and from the last pose fail: a search of
+  /// x, y within this radius (m) and yaw within ± this range (degrees) of the prediction,
+  /// on the grid of `search` (Default: 2 m, 60°, search's 2 m and 30° steps).
+  double recovery_radius = 2.0;
+  double recovery_yaw_deg = 60;
+  GlobalSearchOptions search;
+  /// Directions of the pose's translation whose standard deviation (from the registration's
+  /// covariance) exceeds this keep the prediction's component (Default: 0.1 m; inf: never).
+  double weak_direction_sigma = 0.1;
+  /// Threads of registration and insertion; the result is the same for any count (Default: 1).
+  int threads = 1;
+};
+
+/// Throws std::invalid_argument("<option> = <value>: <why>") on the first bad value.
+void validate(const OnlineMapperOptions& options);
+
+/// How a scan's pose was found.
+enum class OnlineOutcome { First, Tracked, Recovered, Lost };
+const char* toString(OnlineOutcome outcome);
+
+struct OnlineStep {
+  size_t index = 0;  ///< scans given to locate() before this one
+  double time = 0;
+  OnlineOutcome outcome = OnlineOutcome::Lost;
+  /// What placed it: "first scan", "prediction", "last pose", "search" or "" (lost).
+  std::string found_by;
+  Eigen::Isometry3d prediction = Eigen::Isometry3d::Identity();  ///< sensor -> map
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< kept: registered, or prediction
+  RegistrationResult registration;  ///< the one that decided (empty for the first scan)
+  int registrations = 0;            ///< runs of the registration, a search's refinements included
+  int weak_directions = 0;          ///< translation directions that kept the prediction
+  bool inserted = false;
+  InsertionReport insertion;
+  double target_seconds = 0;    ///< cutting the registration target (0 when kept)
+  double locate_seconds = 0;    ///< registration, retries and search
+  double insert_seconds = 0;
+};
+
+class OnlineMapper {
+ public:
+  /// The first scan is placed at `first_pose` (sensor -> map). Throws std::invalid_argument on
+  /// bad options.
+  explicit OnlineMapper(const OnlineMapperOptions& options,
+                        const Eigen::Isometry3d& first_pose = Eigen::Isometry3d::Identity());
+  ~OnlineMapper();
+  OnlineMapper(OnlineMapper&&) noexcept;
+  OnlineMapper& operator=(OnlineMapper&&) noexcept;
+
+  /// Where the scan (points in the sensor frame) taken at `time` (s; non-decreasing) was:
+  /// `odometry`, if given, is the sensor's motion since the previous scan (previous⁻¹·this).
+  /// Changes nothing but the step count: commit() finishes the scan. Throws
+  /// std::invalid_argument for a non-finite time or one before the previous scan's.
+  OnlineStep locate(const std::vector<Eigen::Vector3d>& points, double time,
+                    const std::optional<Eigen::Isometry3d>& odometry = std::nullopt);
+  /// Finishes a step of locate(): its `pose` (the caller may round it, e.g. to what a
+  /// trajectory file holds) becomes the last pose, and unless the scan is lost its points,
+  /// given in the map frame at that pose, are inserted. The map is unchanged if insertion
+  /// throws (MemoryBudgetError, a bad origin).
+  void commit(OnlineStep& step, const std::vector<Eigen::Vector3d>& points_map,
+              const Eigen::Vector3d& sensor_origin_map);
+  /// locate() and commit() at the registered pose; `sensor_origin` in the sensor frame.
+  OnlineStep process(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& sensor_origin,
+                     double time, const std::optional<Eigen::Isometry3d>& odometry = std::nullopt);
+
+  const NdtMap& map() const { return map_; }
+  /// The map, moved out: the mapper is empty after this.
+  NdtMap takeMap();
+  const OnlineMapperOptions& options() const { return options_; }
+
+ private:
+  struct Tracking;  // prediction, registration target, recovery search
+  OnlineMapperOptions options_;
+  NdtMap map_;
+  std::unique_ptr<Tracking> tracking_;
+};
+
+}  // namespace ndtom

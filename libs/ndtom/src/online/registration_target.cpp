@@ -1,0 +1,49 @@
+#include "online/registration_target.h"
+
+#include <cmath>
+
+#include "ndtom/map/block_grid.h"
+#include "ndtom/scale/block_moves.h"
+
+namespace ndtom::online {
+namespace {
+
+/// Distance from `p` to the box of block `b` (m).
+double distanceToBlock(const Eigen::Vector3d& p, const CellIndex& b, double block_edge) {
+  double squared = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double lo = double(b[a]) * block_edge, hi = lo + block_edge;
+    const double d = p[a] < lo ? lo - p[a] : (p[a] > hi ? p[a] - hi : 0.0);
+    squared += d * d;
+  }
+  return std::sqrt(squared);
+}
+
+double turnDegrees(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180 / M_PI;
+}
+
+}  // namespace
+
+bool RegistrationTarget::update(const NdtMap& map, const Eigen::Isometry3d& sensor,
+                                const OnlineMapperOptions& o) {
+  ++scans_since_cut_;
+  if (cut_from_revision_ == map.revision()) return false;  // nothing new to cut
+  const bool stale =
+      cut_from_revision_ == 0 || scans_since_cut_ >= o.target_max_scans ||
+      (o.target_refresh_distance > 0 &&
+       (sensor.translation() - cut_at_.translation()).norm() >= o.target_refresh_distance) ||
+      (o.target_refresh_angle_deg > 0 && turnDegrees(cut_at_, sensor) >= o.target_refresh_angle_deg);
+  if (!stale) return false;
+  const double block_edge = kBlockEdge * map.options().resolution;
+  const Eigen::Vector3d centre = sensor.translation();
+  region_ = copyBlocks(map, [&](const CellIndex& b) {
+    return distanceToBlock(centre, b, block_edge) <= o.target_radius;
+  });
+  cut_from_revision_ = map.revision();
+  cut_at_ = sensor;
+  scans_since_cut_ = 0;
+  return true;
+}
+
+}  // namespace ndtom::online

@@ -1,0 +1,29 @@
+// What an online mapper registers against: a copy of the map's region around the sensor,
+// cut again as the sensor moves on. Registering against a copy lets the map grow without
+// invalidating the registration's pyramid at every insertion, and bounds the pyramid's cost
+// by the region, not by the whole map.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+
+#include "ndtom/map/ndt_map.h"
+#include "ndtom/online/online_mapper.h"
+
+namespace ndtom::online {
+
+class RegistrationTarget {
+ public:
+  /// The region of `map` around `sensor`, cut again if the policy of `options` says the one
+  /// held is stale. Returns whether it was cut.
+  bool update(const NdtMap& map, const Eigen::Isometry3d& sensor, const OnlineMapperOptions& options);
+  const NdtMap& map() const { return region_; }
+
+ private:
+  NdtMap region_;
+  uint64_t cut_from_revision_ = 0;  ///< of the map it was cut from; 0: never cut
+  Eigen::Isometry3d cut_at_ = Eigen::Isometry3d::Identity();
+  int scans_since_cut_ = 0;
+};
+
+}  // namespace ndtom::online

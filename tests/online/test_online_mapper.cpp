@@ -1,0 +1,241 @@
+// OnlineMapper: the shipped BALM scans, moved by known motions, mapped without their poses and
+// checked against those poses (a lidar-inertial estimate, independent of this code).
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <random>
+
+#include "ndtom/online/online_mapper.h"
+#include "ndtom_eval/map_similarity.h"
+#include "ndtom_eval/trajectory_error.h"
+#include "ndtom_io/pcd_reader.h"
+#include "ndtom_io/pose_file.h"
+#include "online/weak_directions.h"
+#include "support/map_equality.h"
+
+using namespace ndtom;
+using Eigen::Isometry3d;
+using Eigen::Vector3d;
+
+namespace {
+
+const std::string kBalm = std::string(NDTOM_TEST_DATA_DIR) + "/balm-realworld";
+constexpr int kScans = 10;
+
+// The shipped scans 0-9 were taken by a sensor at rest (4 cm apart). Each is moved here by a
+// known motion M_i, as if the sensor had been at P_i·M_i: its points become M_i⁻¹·p. The
+// motions drive 0.9 m a scan and turn 6° to 65° a scan, varying, so constant velocity
+// mispredicts the turns by up to 55°. The answer, in the mapper's frame (its first pose is the
+// identity): P_0⁻¹·P_i·M_i, up to the reference's own error.
+struct Balm {
+  std::vector<std::vector<Vector3d>> scans;  // sensor frame, moved
+  std::vector<Isometry3d> truth;             // in the frame of scan 0
+  std::vector<double> times;
+  Balm() {
+    std::vector<Isometry3d> poses;
+    for (const auto& p : io::readPoseFile(kBalm + "/poses.txt")) poses.push_back(p.pose);
+    std::ifstream times_file(kBalm + "/times.txt");
+    for (double t; times_file >> t;) times.push_back(t);
+    Isometry3d motion = Isometry3d::Identity();
+    const double turns_deg[kScans] = {0, 6, 10, 65, 12, 6, 20, 8, 25, 10};
+    for (int i = 0; i < kScans; ++i) {
+      if (i > 0) {
+        motion.translate(Vector3d(0.9, 0.05, 0.0));
+        motion.rotate(Eigen::AngleAxisd(turns_deg[i] * M_PI / 180, Vector3d::UnitZ()));
+      }
+      truth.push_back(poses[0].inverse() * poses[size_t(i)] * motion);
+      const auto cloud = io::readPcd(kBalm + "/full" + std::to_string(i) + ".pcd");
+      std::vector<Vector3d> moved;
+      for (const Vector3d& p : cloud.points) moved.push_back(motion.inverse() * p);
+      scans.push_back(moved);
+    }
+  }
+};
+
+const Balm& balm() {
+  static const Balm b;
+  return b;
+}
+
+OnlineMapperOptions options(int threads = 1) {
+  OnlineMapperOptions o;
+  o.map.resolution = 0.2;
+  o.map.scan.max_range = 30;
+  o.threads = threads;
+  return o;
+}
+
+struct MappedRun {
+  std::vector<OnlineStep> steps;
+  NdtMap map;
+};
+
+MappedRun mapWithoutPoses(const OnlineMapperOptions& o) {
+  const Balm& b = balm();
+  OnlineMapper mapper(o);  // starts at the identity: its own frame
+  MappedRun run;
+  for (int i = 0; i < kScans; ++i)
+    run.steps.push_back(mapper.process(b.scans[size_t(i)], Vector3d::Zero(), b.times[size_t(i)]));
+  run.map = mapper.takeMap();
+  return run;
+}
+
+const MappedRun& singleThreadRun() {
+  static const MappedRun r = mapWithoutPoses(options());
+  return r;
+}
+
+double angleDeg(const Isometry3d& a, const Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180 / M_PI;
+}
+
+}  // namespace
+
+TEST(OnlineMapper, FollowsMovingScansWithoutTheirPoses) {
+  const MappedRun& run = singleThreadRun();
+  std::vector<Vector3d> estimate, reference;
+  for (int i = 0; i < kScans; ++i) {
+    const OnlineStep& s = run.steps[size_t(i)];
+    EXPECT_NE(s.outcome, OnlineOutcome::Lost) << i << ": " << s.registration.failure;
+    EXPECT_TRUE(s.inserted) << i;
+    // Each pose on its own: within 5 cm and 0.5° (the reference's rotations differ from what
+    // P2D and D2D both find by up to 0.3°).
+    EXPECT_LT((s.pose.translation() - balm().truth[size_t(i)].translation()).norm(), 0.05) << i;
+    EXPECT_LT(angleDeg(s.pose, balm().truth[size_t(i)]), 0.5) << i;
+    estimate.push_back(s.pose.translation());
+    reference.push_back(balm().truth[size_t(i)].translation());
+  }
+  EXPECT_EQ(run.steps[0].outcome, OnlineOutcome::First);
+  const TrajectoryError e = alignedTrajectoryError(estimate, reference);
+  EXPECT_GT(e.length, 7.0);
+  EXPECT_LT(e.rmse, 0.03);
+  // A mapper that stood still would be far off: the check can fail.
+  const TrajectoryError still =
+      alignedTrajectoryError(std::vector<Vector3d>(kScans, Vector3d::Zero()), reference);
+  EXPECT_GT(still.rmse, 1.0);
+}
+
+// The map is the map of the scans inserted at the poses the mapper reports, bit for bit: what
+// ndtom-map --poses does with ndtom-slam's trajectory.
+TEST(OnlineMapper, ItsMapIsTheScansInsertedAtItsPoses) {
+  const MappedRun& run = singleThreadRun();
+  NdtMap rebuilt(options().map);
+  for (int i = 0; i < kScans; ++i) {
+    const Isometry3d& pose = run.steps[size_t(i)].pose;
+    std::vector<Vector3d> world;
+    for (const Vector3d& p : balm().scans[size_t(i)]) world.push_back(pose * p);
+    rebuilt.insertScan(world, pose * Vector3d::Zero());
+  }
+  ndtom::testing::expectBitIdentical(run.map, rebuilt);
+  // And it is close to the map at the reference poses: most Gaussians agree.
+  NdtMap reference(options().map);
+  for (int i = 0; i < kScans; ++i) {
+    const Isometry3d& pose = balm().truth[size_t(i)];
+    std::vector<Vector3d> world;
+    for (const Vector3d& p : balm().scans[size_t(i)]) world.push_back(pose * p);
+    reference.insertScan(world, pose.translation());
+  }
+  EXPECT_GT(mapSimilarity(gaussianSetOf(run.map.coarsened(8)), gaussianSetOf(reference.coarsened(8))), 0.7);
+}
+
+TEST(OnlineMapper, SameMapAndPosesForOneAndTwoThreads) {
+  const MappedRun& one = singleThreadRun();
+  const MappedRun two = mapWithoutPoses(options(2));
+  ASSERT_EQ(one.steps.size(), two.steps.size());
+  for (size_t i = 0; i < one.steps.size(); ++i)
+    EXPECT_TRUE(one.steps[i].pose.matrix() == two.steps[i].pose.matrix()) << i;
+  EXPECT_EQ(one.map.numCells(), two.map.numCells());
+  EXPECT_EQ(mapSimilarity(gaussianSetOf(one.map), gaussianSetOf(two.map)), 1.0);
+}
+
+TEST(OnlineMapper, AScanNothingPlacesIsLostAndLeavesTheMap) {
+  const Balm& b = balm();
+  OnlineMapper mapper(options());
+  mapper.process(b.scans[0], Vector3d::Zero(), b.times[0]);
+  mapper.process(b.scans[1], Vector3d::Zero(), b.times[1]);
+  const uint64_t revision = mapper.map().revision();
+  // Random points in a 100 m box, 500 m away: no pose the mapper can reach fits them.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0, 100);
+  std::vector<Vector3d> nonsense;
+  for (int i = 0; i < 20000; ++i) nonsense.emplace_back(500 + u(rng), u(rng), u(rng) * 0.1);
+  const OnlineStep lost = mapper.process(nonsense, Vector3d::Zero(), b.times[2]);
+  EXPECT_EQ(lost.outcome, OnlineOutcome::Lost);
+  EXPECT_FALSE(lost.inserted);
+  EXPECT_FALSE(lost.registration.failure.empty());
+  EXPECT_TRUE(lost.pose.isApprox(lost.prediction));
+  EXPECT_EQ(mapper.map().revision(), revision);
+  // An empty scan is lost too, and the next real scan is placed again.
+  const OnlineStep empty = mapper.process({}, Vector3d::Zero(), b.times[3]);
+  EXPECT_EQ(empty.outcome, OnlineOutcome::Lost);
+  EXPECT_EQ(mapper.map().revision(), revision);
+  const OnlineStep back = mapper.process(b.scans[4], Vector3d::Zero(), b.times[4]);
+  EXPECT_NE(back.outcome, OnlineOutcome::Lost) << back.registration.failure;
+  EXPECT_LT((back.pose.translation() - b.truth[4].translation()).norm(), 0.05);
+}
+
+TEST(OnlineMapper, NonFinitePointsAreSkippedAndCounted) {
+  const Balm& b = balm();
+  OnlineMapper mapper(options());
+  mapper.process(b.scans[0], Vector3d::Zero(), b.times[0]);
+  std::vector<Vector3d> scan = b.scans[1];
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (size_t i = 0; i < scan.size(); i += 10) scan[i] = Vector3d(nan, 1, std::numeric_limits<double>::infinity());
+  const OnlineStep s = mapper.process(scan, Vector3d::Zero(), b.times[1]);
+  EXPECT_NE(s.outcome, OnlineOutcome::Lost) << s.registration.failure;
+  EXPECT_GT(s.insertion.rejected(), scan.size() / 10 - 1);
+  EXPECT_TRUE(s.pose.matrix().allFinite());
+}
+
+TEST(OnlineMapper, TimeGoingBackwardsIsRefused) {
+  const Balm& b = balm();
+  OnlineMapper mapper(options());
+  mapper.process(b.scans[0], Vector3d::Zero(), 10.0);
+  const uint64_t revision = mapper.map().revision();
+  EXPECT_THROW(mapper.process(b.scans[1], Vector3d::Zero(), 9.0), std::invalid_argument);
+  EXPECT_THROW(mapper.process(b.scans[1], Vector3d::Zero(), std::nan("")), std::invalid_argument);
+  EXPECT_EQ(mapper.map().revision(), revision);
+}
+
+TEST(OnlineMapper, BadOptionsNameTheOption) {
+  for (const auto& [change, name] :
+       std::vector<std::pair<std::function<void(OnlineMapperOptions&)>, std::string>>{
+           {[](OnlineMapperOptions& o) { o.target_radius = 0; }, "target_radius"},
+           {[](OnlineMapperOptions& o) { o.recovery_yaw_deg = 200; }, "recovery_yaw_deg"},
+           {[](OnlineMapperOptions& o) { o.weak_direction_sigma = -1; }, "weak_direction_sigma"},
+           {[](OnlineMapperOptions& o) { o.threads = 0; }, "threads"},
+           {[](OnlineMapperOptions& o) { o.map.resolution = -1; }, "resolution"}}) {
+    OnlineMapperOptions o = options();
+    change(o);
+    try {
+      OnlineMapper mapper(o);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A covariance loose along one direction (a corridor's axis): the pose keeps the prediction's
+// component there and the registration's across it.
+TEST(OnlineMapper, WeakDirectionsKeepThePrediction) {
+  const Vector3d axis = Vector3d(1, 1, 0).normalized();
+  Matrix6d covariance = Matrix6d::Identity() * 1e-6;
+  covariance.topLeftCorner<3, 3>() += 0.09 * axis * axis.transpose();  // σ 0.3 m along it
+  Isometry3d registered = Isometry3d::Identity(), predicted = Isometry3d::Identity();
+  registered.translation() = Vector3d(1.0, 0.2, 0.1);
+  predicted.translation() = Vector3d(0.0, 0.0, 0.0);
+  Isometry3d kept = registered;
+  EXPECT_EQ(online::keepPredictionAlongWeakDirections(kept, predicted, covariance, 0.1), 1);
+  const Vector3d d = kept.translation() - predicted.translation();
+  EXPECT_NEAR(d.dot(axis), 0.0, 1e-12);  // along the axis: the prediction
+  const Vector3d across = registered.translation() - axis * registered.translation().dot(axis);
+  EXPECT_LT((kept.translation() - across).norm(), 1e-12);  // across it: the registration
+  Isometry3d tight = registered;
+  EXPECT_EQ(online::keepPredictionAlongWeakDirections(tight, predicted, covariance, 0.5), 0);
+  EXPECT_TRUE(tight.isApprox(registered));
+}
