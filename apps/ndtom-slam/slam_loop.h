@@ -1,0 +1,43 @@
+// The online loop of ndtom-slam: every scan of a source located in the map built so far,
+// its pose rounded to what the trajectory file holds, then inserted there.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ndtom/online/online_mapper.h"
+#include "ndtom_apps/progress.h"
+#include "ndtom_apps/scan_source.h"
+
+namespace ndtom::slam {
+
+struct SlamScan {
+  std::string name;
+  size_t points = 0;      ///< read
+  ndtom::OnlineStep step;  ///< pose as PREFIX.tum holds it
+  std::string tum_line;   ///< "t x y z qx qy qz qw"
+};
+
+struct SlamResult {
+  std::vector<SlamScan> scans;
+  ndtom::NdtMap map;
+  ndtom::InsertionReport points;             ///< of the inserted scans
+  std::vector<Eigen::Vector3d> sensor_path;  ///< sensor origins of the inserted scans
+  bool odometry_used = false;
+  apps::SourceSkips skips;
+  double seconds = 0;  ///< the whole loop, reading included
+  size_t count(ndtom::OnlineOutcome outcome) const;
+};
+
+/// Maps every scan of `source` without its poses. Throws apps::InputError for unreadable data
+/// or a scan the map cannot take (memory budget, time going backwards), naming the scan.
+SlamResult runOnline(apps::ScanSource& source, const ndtom::OnlineMapperOptions& options,
+                     apps::Progress& progress);
+
+/// "t x y z qx qy qz qw" with every number printed so that it reads back bit for bit, and
+/// the pose those numbers stand for (what ndtom-map --poses will use).
+std::string tumLine(double time, const Eigen::Isometry3d& pose, Eigen::Isometry3d* as_read);
+
+}  // namespace ndtom::slam

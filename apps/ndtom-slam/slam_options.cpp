@@ -1,0 +1,179 @@
+#include "slam_options.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <set>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "ndtom_apps/command_line.h"
+#include "ndtom_apps/option_values.h"
+
+namespace ndtom::slam {
+namespace {
+
+using apps::parseInteger;
+using apps::parseReal;
+using apps::UsageError;
+
+std::vector<int> parseLevels(const std::string& text) {
+  std::vector<int> levels;
+  for (const std::string& item : apps::splitList(text))
+    levels.push_back(int(parseInteger("--levels", item, 1, 1024)));
+  return levels;
+}
+
+const apps::OptionTable<SlamOptions>& optionTable() {
+  using O = SlamOptions;
+  static const apps::OptionTable<O> table = {
+      {"--method",
+       {true,
+        [](O& o, const std::string& v) {
+          try {
+            o.online.registration.method = ndtom::registrationMethodFromString(v);
+          } catch (const std::invalid_argument&) {
+            throw UsageError("--method: expected p2d or d2d, got '" + v + "'");
+          }
+        }}},
+      {"--levels",
+       {true, [](O& o, const std::string& v) { o.online.registration.level_factors = parseLevels(v); }}},
+      {"--planar", {false, [](O& o, const std::string&) { o.online.registration.planar = true; }}},
+      {"--max-points",
+       {true,
+        [](O& o, const std::string& v) {
+          o.online.registration.max_points = size_t(parseInteger("--max-points", v, 10, 100000000));
+        }}},
+      {"--target-radius",
+       {true, [](O& o, const std::string& v) { o.online.target_radius = parseReal("--target-radius", v); }}},
+      {"--target-refresh",
+       {true,
+        [](O& o, const std::string& v) {
+          o.online.target_refresh_distance = parseReal("--target-refresh", v);
+          o.online.target_max_scans = 1000000;  // by distance (and --target-refresh-angle) only
+        }}},
+      {"--target-refresh-angle",
+       {true,
+        [](O& o, const std::string& v) {
+          o.online.target_refresh_angle_deg = parseReal("--target-refresh-angle", v);
+          o.online.target_max_scans = 1000000;
+        }}},
+      {"--recovery-radius",
+       {true, [](O& o, const std::string& v) { o.online.recovery_radius = parseReal("--recovery-radius", v); }}},
+      {"--recovery-yaw",
+       {true, [](O& o, const std::string& v) { o.online.recovery_yaw_deg = parseReal("--recovery-yaw", v); }}},
+      {"--weak-sigma",
+       {true,
+        [](O& o, const std::string& v) { o.online.weak_direction_sigma = parseReal("--weak-sigma", v); }}},
+      {"--min-judged-fraction",
+       {true,
+        [](O& o, const std::string& v) {
+          o.online.registration.min_judged_fraction = parseReal("--min-judged-fraction", v);
+        }}},
+      {"--min-matched-fraction",
+       {true,
+        [](O& o, const std::string& v) {
+          o.online.registration.min_matched_fraction = parseReal("--min-matched-fraction", v);
+        }}},
+      {"--reference", {true, [](O& o, const std::string& v) { o.reference_file = v; }}},
+  };
+  return table;
+}
+
+// ndtom-map's options that give poses or replay the input: ndtom-slam finds the poses itself.
+const std::set<std::string>& refusedMapOptions() {
+  static const std::set<std::string> refused = {"--poses", "--pose-format", "--pose-time-tolerance",
+                                                "--passes", "--resident-budget", "--spill-dir",
+                                                "--min-travel", "--min-turn"};
+  return refused;
+}
+
+}  // namespace
+
+SlamOptions parseSlamOptions(int argc, char** argv) {
+  SlamOptions o;
+  const auto& table = optionTable();
+  // Ours first; everything else is ndtom-map's, parsed by its own parser.
+  std::vector<std::string> rest = {argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const size_t eq = arg.rfind("--", 0) == 0 ? arg.find('=') : std::string::npos;
+    const std::string name = arg.substr(0, eq);
+    if (refusedMapOptions().count(name))
+      throw UsageError(name + ": ndtom-slam finds the poses itself (use ndtom-map for given poses)");
+    if (name == "--help" || name == "-h") o.help = true;
+    const auto spec = table.find(name);
+    if (spec == table.end()) {
+      rest.push_back(arg);
+      continue;
+    }
+    std::string value;
+    if (eq != std::string::npos) {
+      value = arg.substr(eq + 1);
+    } else if (spec->second.takes_value) {
+      if (i + 1 >= argc) throw UsageError(name + ": missing value (see --help)");
+      value = argv[++i];
+    }
+    spec->second.handle(o, value);
+  }
+  if (o.help) return o;
+  std::vector<char*> rest_argv;
+  for (std::string& a : rest) rest_argv.push_back(a.data());
+  o.map = mapper::parseMapperOptions(int(rest_argv.size()), rest_argv.data());
+  std::error_code ec;
+  if (!o.reference_file.empty() && !std::filesystem::is_regular_file(o.reference_file, ec))
+    throw UsageError("--reference " + o.reference_file + ": no such file");
+  try {
+    ndtom::validate(o.online.registration);
+    OnlineMapperOptions check = o.online;
+    check.map = ndtom::MapOptions{};
+    ndtom::validate(check);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  return o;
+}
+
+std::string helpText() {
+  std::ostringstream s;
+  s << "ndtom-slam: maps a log without given poses. Each scan is registered against the NDT-OM\n"
+       "built so far (coarse to fine, from a constant-velocity or odometry prediction), then\n"
+       "inserted at the pose found: the paper's online mapping, as lidar odometry.\n"
+       "\n"
+       "Usage: ndtom-slam INPUT -o PREFIX [options]\n"
+       "\n"
+       "INPUT, the map's options (--resolution, --config, ...) and the outputs are ndtom-map's\n"
+       "(see ndtom-map --help), without the options that give poses (--poses, --passes, ...):\n"
+       "a PCD folder's poses.txt is not read; a rawlog's odometry is the prediction.\n"
+       "It writes what ndtom-map writes, plus PREFIX.tum (one line per scan: time, position,\n"
+       "quaternion, the sensor's pose for PCD scans, the robot's for rawlogs) from which\n"
+       "ndtom-map INPUT --poses PREFIX.tum rebuilds the same map bit for bit.\n"
+       "\n"
+       "Registration:\n"
+       "  --method p2d|d2d          point-to-distribution or distribution-to-distribution (p2d)\n"
+       "  --levels LIST             pyramid, coarse to fine, multiples of the cell (16,8,4,2,1)\n"
+       "  --planar                  only x, y, yaw (2D scans, flat ground)\n"
+       "  --max-points N            scan points per level at most (6000)\n"
+       "  --min-matched-fraction F  verdict: matched part of what the map can judge (0.25)\n"
+       "  --min-judged-fraction F   verdict: scan share where the map has looked (0.15)\n"
+       "  --target-radius M         register against the map within M metres (80)\n"
+       "  --target-refresh M        cut that region again only after M metres of travel ...\n"
+       "  --target-refresh-angle D  ... or D degrees of turn (default: every scan)\n"
+       "  --recovery-radius M       when the verdict fails: search x, y within M metres (2)\n"
+       "  --recovery-yaw DEG        ... and yaw within +-DEG of the prediction (60)\n"
+       "  --weak-sigma M            directions the scene constrains worse than M (std. dev.)\n"
+       "                            keep the prediction (0.1)\n"
+       "  --threads N               threads of registration and insertion: the map's\n"
+       "                            --threads key (same result for any count)\n"
+       "\n"
+       "Evaluation:\n"
+       "  --reference FILE          trajectory to compare with (TUM or KITTI, pose i = scan i):\n"
+       "                            ATE after alignment and final drift in the summary\n"
+       "  -q, --quiet               no progress, no summary on stdout\n"
+       "  -h, --help                this text\n"
+       "\n"
+       "Example: ndtom-slam tests/data/balm-realworld -o out/slam --resolution 0.2\n";
+  return s.str();
+}
+
+}  // namespace ndtom::slam

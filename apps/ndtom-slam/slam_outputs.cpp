@@ -1,0 +1,148 @@
+#include "slam_outputs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "ndtom_apps/json_writer.h"
+#include "ndtom_apps/statistics.h"
+
+namespace ndtom::slam {
+namespace {
+
+void writeStep(apps::JsonWriter& j, const SlamScan& s) {
+  const ndtom::OnlineStep& st = s.step;
+  j.beginObject();
+  j.field("index", st.index);
+  j.field("name", s.name);
+  j.field("time", st.time);
+  j.field("points", s.points);
+  j.field("outcome", ndtom::toString(st.outcome));
+  j.field("found_by", st.found_by);
+  j.field("registrations", st.registrations);
+  j.field("inserted", st.inserted);
+  if (!st.registration.failure.empty()) j.field("failure", st.registration.failure);
+  j.field("matched_fraction", st.registration.matched_fraction);
+  j.field("judged_fraction", st.registration.judged_fraction);
+  j.field("free_fraction", st.registration.free_fraction);
+  j.field("weak_directions", st.weak_directions);
+  j.field("correction_m", (st.pose.translation() - st.prediction.translation()).norm());
+  j.field("sigma_xyz_m", std::sqrt(std::max(0.0, st.registration.covariance.topLeftCorner<3, 3>().trace())));
+  j.field("target_seconds", st.target_seconds);
+  j.field("locate_seconds", st.locate_seconds);
+  j.field("insert_seconds", st.insert_seconds);
+  j.endObject();
+}
+
+std::vector<double> scanSeconds(const SlamResult& r) {
+  std::vector<double> v;
+  for (const SlamScan& s : r.scans)
+    v.push_back(s.step.target_seconds + s.step.locate_seconds + s.step.insert_seconds);
+  return v;
+}
+
+}  // namespace
+
+std::string trajectoryTum(const SlamResult& result) {
+  std::string text;
+  for (const SlamScan& s : result.scans) text += s.tum_line + "\n";
+  return text;
+}
+
+std::string summaryJson(const SlamSummary& s) {
+  const SlamResult& r = *s.result;
+  const ndtom::OnlineMapperOptions& o = s.options->online;
+  apps::JsonWriter j;
+  j.beginObject();
+  j.field("program", "ndtom-slam");
+  j.field("input", s.options->map.input);
+  j.field("source", s.source_description);
+  j.beginObject("options");
+  j.field("resolution", s.map->options().resolution);
+  j.field("method", ndtom::toString(o.registration.method));
+  j.beginArray("level_factors");
+  for (const int f : o.registration.level_factors) j.field("", f);
+  j.endArray();
+  j.field("max_points", o.registration.max_points);
+  j.field("min_matched_fraction", o.registration.min_matched_fraction);
+  j.field("min_judged_fraction", o.registration.min_judged_fraction);
+  j.field("target_radius", o.target_radius);
+  j.field("recovery_radius", o.recovery_radius);
+  j.field("recovery_yaw_deg", o.recovery_yaw_deg);
+  j.field("weak_direction_sigma", o.weak_direction_sigma);
+  j.field("threads", o.threads);
+  j.endObject();
+  j.field("prediction", r.odometry_used ? "odometry" : "constant velocity");
+  j.field("scans", r.scans.size());
+  j.field("tracked", r.count(ndtom::OnlineOutcome::Tracked));
+  j.field("recovered", r.count(ndtom::OnlineOutcome::Recovered));
+  j.field("lost", r.count(ndtom::OnlineOutcome::Lost));
+  j.field("first", r.count(ndtom::OnlineOutcome::First));
+  j.field("map_cells", s.map->numCells());
+  j.field("map_gaussians", s.map->numGaussians());
+  j.field("map_bytes", s.map->memoryBytes());
+  const std::vector<double> seconds = scanSeconds(r);
+  j.field("scan_seconds_median", apps::quantile(seconds, 0.5));
+  j.field("scans_per_second", r.seconds > 0 ? double(r.scans.size()) / r.seconds : 0.0);
+  if (s.reference_error) {
+    j.beginObject("reference");
+    j.field("file", s.options->reference_file);
+    j.field("ate_rmse_m", s.reference_error->rmse);
+    j.field("ate_max_m", s.reference_error->max);
+    j.field("final_error_m", s.reference_error->final);
+    j.field("path_length_m", s.reference_error->length);
+    j.field("final_error_percent",
+            s.reference_error->length > 0 ? 100 * s.reference_error->final / s.reference_error->length : 0.0);
+    j.endObject();
+  }
+  j.field("loop_seconds", r.seconds);
+  j.field("total_seconds", s.total_seconds);
+  j.field("peak_rss_bytes", s.peak_rss);
+  j.beginArray("files");
+  for (const apps::WrittenFile& f : s.files) {
+    j.beginObject();
+    j.field("role", f.role);
+    j.field("path", f.path);
+    j.endObject();
+  }
+  j.endArray();
+  j.beginArray("per_scan");
+  for (const SlamScan& scan : r.scans) writeStep(j, scan);
+  j.endArray();
+  j.endObject();
+  return j.str();
+}
+
+std::string summaryText(const SlamSummary& s) {
+  const SlamResult& r = *s.result;
+  std::ostringstream t;
+  char line[256];
+  std::snprintf(line, sizeof(line),
+                "ndtom-slam: %zu scans: %zu tracked, %zu recovered, %zu lost (prediction: %s)\n",
+                r.scans.size(), r.count(ndtom::OnlineOutcome::Tracked) + r.count(ndtom::OnlineOutcome::First),
+                r.count(ndtom::OnlineOutcome::Recovered), r.count(ndtom::OnlineOutcome::Lost),
+                r.odometry_used ? "odometry" : "constant velocity");
+  t << line;
+  std::snprintf(line, sizeof(line),
+                "  map: %zu cells, %zu Gaussians, %.1f MB; %.2f scans/s, median %.1f ms a scan\n",
+                s.map->numCells(), s.map->numGaussians(), double(s.map->memoryBytes()) / 1e6,
+                r.seconds > 0 ? double(r.scans.size()) / r.seconds : 0.0,
+                1e3 * apps::quantile(scanSeconds(r), 0.5));
+  t << line;
+  if (s.reference_error) {
+    const ndtom::TrajectoryError& e = *s.reference_error;
+    std::snprintf(line, sizeof(line),
+                  "  against %s: ATE %.3f m RMSE, %.3f m max, final %.3f m (%.2f %% of %.1f m)\n",
+                  s.options->reference_file.c_str(), e.rmse, e.max, e.final,
+                  e.length > 0 ? 100 * e.final / e.length : 0.0, e.length);
+    t << line;
+  }
+  std::snprintf(line, sizeof(line), "  %.1f s in all, peak memory %.0f MB\n", s.total_seconds,
+                double(s.peak_rss) / 1e6);
+  t << line;
+  for (const apps::WrittenFile& f : s.files) t << "  " << f.path << "\n";
+  return t.str();
+}
+
+}  // namespace ndtom::slam

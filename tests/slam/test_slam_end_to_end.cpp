@@ -1,0 +1,83 @@
+// ndtom-slam as a user runs it, on the shipped BALM scans (their poses.txt not read).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <sstream>
+
+#include "mapper/mapper_run.h"
+
+using namespace mapper_test;
+
+namespace {
+
+const std::string kSlam = NDTOM_SLAM_EXE;
+const std::string kMapOptions = " --resolution 0.2 --max-range 30 ";
+
+size_t lineCount(const std::string& text) {
+  size_t n = 0;
+  for (const char c : text) n += c == '\n';
+  return n;
+}
+
+}  // namespace
+
+TEST(SlamEndToEnd, MapsTheShippedScansAndItsTrajectoryRebuildsTheSameMap) {
+  TempDir dir;
+  const std::string prefix = (dir / "run").string();
+  const ProgramRun run = runExecutable(
+      kSlam,
+      quoted(kLidar) + " -o " + quoted(prefix) + kMapOptions + "--reference " +
+          quoted(kLidar + "/poses.txt"),
+      dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  for (const char* suffix : {".ndtom", ".ndtommap", ".3Dscene", ".top.png", ".3d.png", ".tum",
+                             ".summary.json"})
+    EXPECT_TRUE(fs::exists(prefix + suffix)) << suffix;
+  const std::string json = readText(prefix + ".summary.json");
+  EXPECT_EQ(jsonNumber(json, "scans"), 10);
+  EXPECT_EQ(jsonNumber(json, "lost"), 0);
+  EXPECT_LT(jsonNumber(json, "ate_rmse_m"), 0.03);
+  EXPECT_EQ(lineCount(readText(prefix + ".tum")), 10u);
+  EXPECT_NE(run.out.find("10 scans"), std::string::npos) << run.out;
+  EXPECT_NE(run.err.find("mapping"), std::string::npos);  // progress
+
+  // ndtom-map with the trajectory: the same map, byte for byte.
+  const std::string rebuilt = (dir / "rebuilt").string();
+  const ProgramRun map = runMapper(quoted(kLidar) + " --poses " + quoted(prefix + ".tum") +
+                                       " -o " + quoted(rebuilt) + kMapOptions + "--no-pictures -q",
+                                   dir);
+  ASSERT_EQ(map.exit_code, 0) << map.err;
+  EXPECT_TRUE(sameBytes(readText(prefix + ".ndtom"), readText(rebuilt + ".ndtom")));
+  // ... and not the map of the shipped poses (the check can fail).
+  const std::string shipped = (dir / "shipped").string();
+  ASSERT_EQ(runMapper(quoted(kLidar) + " -o " + quoted(shipped) + kMapOptions + "--no-pictures -q",
+                      dir)
+                .exit_code,
+            0);
+  EXPECT_FALSE(sameBytes(readText(prefix + ".ndtom"), readText(shipped + ".ndtom")));
+}
+
+TEST(SlamEndToEnd, OptionsThatGivePosesAreRefused) {
+  TempDir dir;
+  for (const std::string option : {"--poses " + quoted(kLidar + "/poses.txt"), std::string("--passes 2"),
+                                   std::string("--resident-budget 10")}) {
+    const ProgramRun run = runExecutable(
+        kSlam, quoted(kLidar) + " -o " + quoted((dir / "x").string()) + " " + option, dir);
+    EXPECT_EQ(run.exit_code, 2) << option;
+    EXPECT_NE(run.err.find("finds the poses itself"), std::string::npos) << run.err;
+    EXPECT_TRUE(outputsOf(dir, "x").empty());
+  }
+  const ProgramRun bad = runExecutable(
+      kSlam, quoted(kLidar) + " -o " + quoted((dir / "x").string()) + " --recovery-yaw 400", dir);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("recovery_yaw_deg"), std::string::npos) << bad.err;
+}
+
+TEST(SlamEndToEnd, AFolderWithoutScansIsAClearError) {
+  TempDir dir;
+  fs::create_directories(dir / "empty");
+  const ProgramRun run = runExecutable(
+      kSlam, quoted((dir / "empty").string()) + " -o " + quoted((dir / "x").string()), dir);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("nor .pcd files"), std::string::npos) << run.err;
+}
