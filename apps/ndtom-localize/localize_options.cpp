@@ -18,13 +18,6 @@ using apps::parseInteger;
 using apps::parseReal;
 using apps::UsageError;
 
-std::vector<int> parseLevels(const std::string& text) {
-  std::vector<int> levels;
-  for (const std::string& item : apps::splitList(text))
-    levels.push_back(int(parseInteger("--levels", item, 1, 1024)));
-  return levels;
-}
-
 const apps::OptionTable<LocalizeOptions>& optionTable() {
   using O = LocalizeOptions;
   static const auto table = apps::withHelpAndQuiet(apps::withInputOptions<O>({
@@ -88,7 +81,7 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
             throw UsageError("--method: expected p2d or d2d, got '" + v + "'");
           }
         }}},
-      {"--levels", {true, [](O& o, const std::string& v) { o.tracking.registration.level_factors = parseLevels(v); }}},
+      {"--levels", {true, [](O& o, const std::string& v) { o.tracking.registration.level_factors = apps::parseLevelFactors("--levels", v); }}},
       {"--min-range",
        {true, [](O& o, const std::string& v) { o.tracking.registration.min_range = parseReal("--min-range", v); }}},
       {"--max-range",

@@ -17,13 +17,6 @@ using apps::parseInteger;
 using apps::parseReal;
 using apps::UsageError;
 
-std::vector<int> parseLevels(const std::string& text) {
-  std::vector<int> levels;
-  for (const std::string& item : apps::splitList(text))
-    levels.push_back(int(parseInteger("--levels", item, 1, 1024)));
-  return levels;
-}
-
 const apps::OptionTable<SlamOptions>& optionTable() {
   using O = SlamOptions;
   static const apps::OptionTable<O> table = {
@@ -37,7 +30,7 @@ const apps::OptionTable<SlamOptions>& optionTable() {
           }
         }}},
       {"--levels",
-       {true, [](O& o, const std::string& v) { o.online.registration.level_factors = parseLevels(v); }}},
+       {true, [](O& o, const std::string& v) { o.online.registration.level_factors = apps::parseLevelFactors("--levels", v); }}},
       {"--planar", {false, [](O& o, const std::string&) { o.online.registration.planar = true; }}},
       {"--max-points",
        {true,
@@ -62,6 +55,11 @@ const apps::OptionTable<SlamOptions>& optionTable() {
        {true, [](O& o, const std::string& v) { o.online.recovery_radius = parseReal("--recovery-radius", v); }}},
       {"--recovery-yaw",
        {true, [](O& o, const std::string& v) { o.online.recovery_yaw_deg = parseReal("--recovery-yaw", v); }}},
+      {"--ground-thinning",
+       {true,
+        [](O& o, const std::string& v) {
+          o.online.ground_thinning = int(parseInteger("--ground-thinning", v, 1, 1000));
+        }}},
       {"--weak-sigma",
        {true,
         [](O& o, const std::string& v) { o.online.weak_direction_sigma = parseReal("--weak-sigma", v); }}},
@@ -161,6 +159,9 @@ std::string helpText() {
        "  --target-refresh-angle D  ... or D degrees of turn (default: every scan)\n"
        "  --recovery-radius M       when the verdict fails: search x, y within M metres (2)\n"
        "  --recovery-yaw DEG        ... and yaw within +-DEG of the prediction (60)\n"
+       "  --ground-thinning K       one in K points on the scan's ground plane registers (10);\n"
+       "                            all are inserted. On flat ground every ring point makes a\n"
+       "                            moving lidar seem to stand still\n"
        "  --weak-sigma M            directions the scene constrains worse than M (std. dev.)\n"
        "                            keep the prediction (0.1)\n"
        "  --threads N               threads of registration and insertion: the map's\n"

@@ -14,6 +14,7 @@
 #include "ndtom_eval/trajectory_error.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
+#include "online/ground_thinning.h"
 #include "online/weak_directions.h"
 #include "support/map_equality.h"
 
@@ -218,6 +219,25 @@ TEST(OnlineMapper, BadOptionsNameTheOption) {
       EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
     }
   }
+}
+
+// A flat floor 1.8 m below the sensor and a wall: one in K floor points is kept, every wall
+// point, in order.
+TEST(OnlineMapper, GroundThinningKeepsOneInKGroundPoints) {
+  std::vector<Vector3d> scan;
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> u(-10, 10), n(-0.01, 0.01);
+  for (int i = 0; i < 5000; ++i) scan.emplace_back(u(rng), u(rng), -1.8 + n(rng));
+  for (int i = 0; i < 1000; ++i) scan.emplace_back(6 + n(rng), u(rng), -1.5 + 0.2 * std::abs(u(rng)));
+  const std::vector<Vector3d> thinned = online::thinGround(scan, 10);
+  size_t floor = 0, wall = 0;
+  for (const Vector3d& p : thinned) (p.z() < -1.7 ? floor : wall)++;
+  EXPECT_EQ(floor, 500u);
+  EXPECT_EQ(wall, 1000u);
+  EXPECT_EQ(online::thinGround(scan, 1).size(), scan.size());
+  // No ground (a scan of walls only): everything stays.
+  const std::vector<Vector3d> walls(scan.begin() + 5000, scan.end());
+  EXPECT_EQ(online::thinGround(walls, 10).size(), walls.size());
 }
 
 // A covariance loose along one direction (a corridor's axis): the pose keeps the prediction's

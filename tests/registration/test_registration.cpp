@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "core/synthetic_room.h"
@@ -229,23 +230,58 @@ TEST(Registration, PyramidIsKeptUntilTheMapChanges) {
   EXPECT_NE(first, registration.pyramid());
 }
 
+// The levels are built from the cells with statistics only, on several threads: they must be
+// the occupied Gaussians of the coarsened map (all its cells, free ones too), bit for bit.
+// A pinned pyramid (an online mapper's region of the map) is used while the map keeps the
+// revision it was pinned for: the map may grow without a rebuild until then.
+TEST(Registration, APinnedPyramidIsUsedForItsRevision) {
+  const SyntheticCase c;
+  RegistrationOptions o;
+  o.level_factors = {4, 2, 1};
+  NdtRegistration registration(o);
+  NdtMap grown = c.map;
+  grown.insertScan(room::sampleRoom(2000, 5, 0.0), room::kRoomSensor);
+  const auto pinned = std::make_shared<const MapPyramid>(c.map, o.level_factors);
+  registration.pinPyramid(pinned, grown.revision());
+  const Isometry3d guess = c.truth * poseOf(Vector3d(0.1, 0, 0), 0, Vector3d::UnitZ());
+  const RegistrationResult r = registration.align(grown, c.scan, guess);
+  EXPECT_EQ(registration.pyramid(), pinned);
+  EXPECT_TRUE(r.converged) << r.failure;
+  grown.insertScan(room::sampleRoom(100, 6, 0.0), room::kRoomSensor);  // a new revision
+  registration.align(grown, c.scan, guess);
+  EXPECT_NE(registration.pyramid(), pinned);
+  EXPECT_THROW(registration.pinPyramid(std::make_shared<const MapPyramid>(c.map, std::vector<int>{2, 1}), 1),
+               std::invalid_argument);
+}
+
 TEST(Registration, PyramidLevelsHoldTheOccupiedGaussiansOfTheCoarsenedMap) {
-  const NdtMap map = room::roomMap(0.2, 60000);
-  const MapPyramid pyramid(map, {8, 4, 2, 1});
-  ASSERT_EQ(pyramid.size(), 4u);
-  for (size_t l = 0; l < pyramid.size(); ++l) {
-    const NdtMap coarse = map.coarsened(pyramid.factor(l));
-    size_t expected = 0;
-    coarse.forEachCell([&](const CellView& cell) {
-      if (!(cell.stats && cell.stats->hasGaussian() && cell.logodds > 0)) return;
-      ++expected;
-      const PreparedGaussian* g = pyramid.level(l).find(cell.index);
-      ASSERT_NE(g, nullptr);
-      EXPECT_TRUE(g->mean.isApprox(coarse.gaussian(cell.index)->mean, 1e-12));
-    });
-    EXPECT_EQ(pyramid.level(l).size(), expected);
-    EXPECT_DOUBLE_EQ(pyramid.resolution(l), 0.2 * pyramid.factor(l));
+  for (const bool occupancy : {true, false}) {
+    MapOptions o;
+    o.resolution = 0.2;
+    o.occupancy.enabled = occupancy;
+    NdtMap map(o);
+    map.insertScan(room::sampleRoom(60000, 1, 0.01), room::kRoomSensor);
+    map.insertScan(room::sampleRoom(30000, 2, 0.01), room::kRoomSensor + Vector3d(0.7, -0.4, 0.1));
+    for (const int threads : {1, 3}) {
+      const MapPyramid pyramid(map, {8, 4, 2, 1}, threads);
+      ASSERT_EQ(pyramid.size(), 4u);
+      for (size_t l = 0; l < pyramid.size(); ++l) {
+        const NdtMap coarse = map.coarsened(pyramid.factor(l));
+        const GaussianLookup expected(coarse, {/*occupied_only=*/true, /*nearest_means=*/false});
+        ASSERT_EQ(pyramid.level(l).size(), expected.size()) << occupancy << " " << l;
+        ASSERT_GT(expected.size(), 10u);
+        for (size_t i = 0; i < expected.size(); ++i) {
+          const PreparedGaussian &a = pyramid.level(l).gaussians()[i], &b = expected.gaussians()[i];
+          EXPECT_EQ(a.cell, b.cell);
+          EXPECT_EQ(a.n, b.n);
+          EXPECT_EQ(std::memcmp(a.mean.data(), b.mean.data(), sizeof(double) * 3), 0);
+          EXPECT_EQ(std::memcmp(a.information.data(), b.information.data(), sizeof(double) * 9), 0);
+        }
+        EXPECT_DOUBLE_EQ(pyramid.resolution(l), 0.2 * pyramid.factor(l));
+      }
+    }
   }
+  const NdtMap map = room::roomMap(0.2, 60000);
   EXPECT_THROW(MapPyramid(map, {1, 2}), std::invalid_argument);
   EXPECT_THROW(MapPyramid(map, {}), std::invalid_argument);
 }

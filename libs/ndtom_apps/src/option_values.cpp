@@ -39,6 +39,11 @@ int64_t parseInteger(const std::string& option, const std::string& text, int64_t
   return value;
 }
 
+std::vector<int> parseLevelFactors(const std::string& option, const std::string& text) {
+  const std::vector<int64_t> values = parseIntegerList(option, text, 1, 1024);
+  return {values.begin(), values.end()};
+}
+
 std::vector<int64_t> parseIntegerList(const std::string& option, const std::string& text,
                                       int64_t min_value, int64_t max_value) {
   std::vector<int64_t> out;

@@ -37,13 +37,25 @@ GaussianLookup::GaussianLookup(const NdtMap& map, const LookupOptions& options)
     if (!wanted) return;
     gaussians_.push_back(prepare(map.gaussianOf(c, Covariance::Regularized)));
   });
+  index(options.nearest_means);
+}
+
+GaussianLookup::GaussianLookup(const GridGeometry& geometry, const std::vector<Gaussian>& gaussians,
+                               const LookupOptions& options)
+    : geometry_(geometry) {
+  gaussians_.reserve(gaussians.size());
+  for (const Gaussian& g : gaussians) gaussians_.push_back(prepare(g));
+  index(options.nearest_means);
+}
+
+void GaussianLookup::index(bool nearest_means) {
   std::sort(gaussians_.begin(), gaussians_.end(),
             [](const PreparedGaussian& a, const PreparedGaussian& b) { return a.cell < b.cell; });
   for (uint32_t i = 0; i < gaussians_.size(); ++i) {
     const CellIndex& cell = gaussians_[i].cell;
     by_cell_.getOrCreate(blockOf(cell)).index[offsetInBlock(cell)] = i;
   }
-  if (!options.nearest_means) return;
+  if (!nearest_means) return;
   std::vector<Eigen::Vector3d> means;
   means.reserve(gaussians_.size());
   for (const PreparedGaussian& g : gaussians_) means.push_back(g.mean);

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "ndtom/localization/motion_prediction.h"
+#include "online/ground_thinning.h"
 #include "online/registration_target.h"
 #include "online/weak_directions.h"
 #include "support/elapsed.h"
@@ -30,6 +31,8 @@ void validate(const OnlineMapperOptions& o) {
     failOption("recovery_yaw_deg", o.recovery_yaw_deg, "must be in [0, 180]");
   if (!(o.weak_direction_sigma > 0))
     failOption("weak_direction_sigma", o.weak_direction_sigma, "must be > 0 (inf: never)");
+  if (!(o.ground_thinning >= 1 && o.ground_thinning <= 1000))
+    failOption("ground_thinning", o.ground_thinning, "must be in [1, 1000]");
   if (!(o.threads >= 1 && o.threads <= ScanOptions::kMaxThreads))
     failOption("threads", o.threads, "must be in [1, 256]");
 }
@@ -65,9 +68,10 @@ struct OnlineMapper::Tracking {
 
   /// The first registration start that the verdict accepts, else a search around the
   /// prediction; the step's outcome, pose and registration say which, if any.
-  void place(const std::vector<Eigen::Vector3d>& points, const OnlineMapperOptions& o,
-             OnlineStep& step) {
-    const NdtMap& map = target.map();
+  void place(const NdtMap& map, const std::vector<Eigen::Vector3d>& points,
+             const OnlineMapperOptions& o, OnlineStep& step) {
+    // Registered against the target's pyramid, judged against the map as it is.
+    search.registration().pinPyramid(target.pyramid(), map.revision());
     struct Start {
       const char* name;
       Eigen::Isometry3d pose;
@@ -157,7 +161,7 @@ OnlineStep OnlineMapper::locate(const std::vector<Eigen::Vector3d>& points, doub
   step.prediction = odometry ? t.motion.lastPose() * *odometry : t.motion.predict(time);
   const auto cut = Clock::now();
   if (t.target.update(map_, step.prediction, options_)) step.target_seconds = secondsSince(cut);
-  t.place(points, options_, step);
+  t.place(map_, online::thinGround(points, options_.ground_thinning), options_, step);
   if (step.outcome == OnlineOutcome::Lost) {
     step.pose = step.prediction;
   } else {

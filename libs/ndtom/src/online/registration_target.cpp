@@ -37,9 +37,10 @@ bool RegistrationTarget::update(const NdtMap& map, const Eigen::Isometry3d& sens
   if (!stale) return false;
   const double block_edge = kBlockEdge * map.options().resolution;
   const Eigen::Vector3d centre = sensor.translation();
-  region_ = copyBlocks(map, [&](const CellIndex& b) {
+  const NdtMap region = copyBlocks(map, [&](const CellIndex& b) {
     return distanceToBlock(centre, b, block_edge) <= o.target_radius;
   });
+  pyramid_ = std::make_shared<const MapPyramid>(region, o.registration.level_factors, o.threads);
   cut_from_revision_ = map.revision();
   cut_at_ = sensor;
   scans_since_cut_ = 0;

@@ -1,14 +1,15 @@
-// What an online mapper registers against: a copy of the map's region around the sensor,
-// cut again as the sensor moves on. Registering against a copy lets the map grow without
-// invalidating the registration's pyramid at every insertion, and bounds the pyramid's cost
-// by the region, not by the whole map.
+// What an online mapper registers against: the pyramid of the map's region around the sensor,
+// cut again as the sensor moves on. It stays valid while the map grows (no rebuild at every
+// insertion unless asked), and its cost is bounded by the region, not by the whole map.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <memory>
 
 #include "ndtom/map/ndt_map.h"
 #include "ndtom/online/online_mapper.h"
+#include "ndtom/registration/map_pyramid.h"
 
 namespace ndtom::online {
 
@@ -17,10 +18,11 @@ class RegistrationTarget {
   /// The region of `map` around `sensor`, cut again if the policy of `options` says the one
   /// held is stale. Returns whether it was cut.
   bool update(const NdtMap& map, const Eigen::Isometry3d& sensor, const OnlineMapperOptions& options);
-  const NdtMap& map() const { return region_; }
+  /// Null before the first update().
+  const std::shared_ptr<const MapPyramid>& pyramid() const { return pyramid_; }
 
  private:
-  NdtMap region_;
+  std::shared_ptr<const MapPyramid> pyramid_;
   uint64_t cut_from_revision_ = 0;  ///< of the map it was cut from; 0: never cut
   Eigen::Isometry3d cut_at_ = Eigen::Isometry3d::Identity();
   int scans_since_cut_ = 0;

@@ -192,16 +192,27 @@ NdtRegistration& NdtRegistration::operator=(NdtRegistration&&) noexcept = defaul
 
 void NdtRegistration::setOptions(const RegistrationOptions& options) {
   validate(options);
-  if (options.level_factors != options_.level_factors) pyramid_.reset();
+  if (options.level_factors != options_.level_factors) {
+    pyramid_.reset();
+    pinned_.reset();
+  }
   options_ = options;
 }
 
+void NdtRegistration::pinPyramid(std::shared_ptr<const MapPyramid> pyramid, uint64_t revision) {
+  if (pyramid && pyramid->factors() != options_.level_factors)
+    throw std::invalid_argument("pinPyramid: the pyramid's levels are not the options' level_factors");
+  pinned_ = std::move(pyramid);
+  pinned_revision_ = revision;
+}
+
 std::shared_ptr<const MapPyramid> NdtRegistration::pyramidFor(const NdtMap& map) {
+  if (pinned_ && pinned_revision_ == map.revision()) return pinned_;
   if (pyramid_ && pyramid_->revision() == map.revision() &&
       pyramid_->factors() == options_.level_factors &&
       pyramid_->level(pyramid_->size() - 1).geometry().resolution() == map.geometry().resolution())
     return pyramid_;
-  return std::make_shared<const MapPyramid>(map, options_.level_factors);
+  return std::make_shared<const MapPyramid>(map, options_.level_factors, options_.threads);
 }
 
 RegistrationResult NdtRegistration::align(const NdtMap& map,

@@ -38,8 +38,12 @@ SpaceFractions spaceFractions(const NdtMap& map, const NdtObjective& finest, con
       unknown += !finest.matches(pose, i);
       continue;
     }
+    // The map judges with its Gaussians and its free space: an occupied cell too thin to
+    // hold a Gaussian (a sparse lidar's far surfaces) says nothing of where a point should be.
     const CellIndex cell = map.geometry().cellOf(p);
-    if (!map.cell(cell))
+    const auto c = map.cell(cell);
+    const bool judging = c && (c->logodds < 0.f || (c->stats && c->stats->hasGaussian()));
+    if (!judging)
       unknown += !finest.matches(pose, i);
     else
       free += inOpenFreeSpace(map, cell);

@@ -13,7 +13,8 @@
 namespace ndtom::registration {
 
 /// Where the finest level's scan items land at `pose`, as fractions of them: in open free
-/// space, and in space the map has never observed without matching it (unknown). Both 0 for a
+/// space, and, without matching a Gaussian, where the map cannot judge them (unknown): a cell
+/// never observed, or occupied but with too few points for a Gaussian. Both 0 for a
 /// map without occupancy, where unobserved and free space cannot be told apart.
 struct SpaceFractions {
   double free = 0;

@@ -26,6 +26,9 @@ int64_t parseInteger(const std::string& option, const std::string& text, int64_t
 /// twice or an empty list is an error.
 std::vector<int64_t> parseIntegerList(const std::string& option, const std::string& text,
                                       int64_t min_value, int64_t max_value);
+/// Registration pyramid levels ("16,8,4,2,1"), each in [1, 1024], as multiples of the map's
+/// cell; their order is checked with the registration's options.
+std::vector<int> parseLevelFactors(const std::string& option, const std::string& text);
 /// true/yes/1 or false/no/0, any case (the words MRPT's read_bool understands alike).
 bool parseBool(const std::string& option, const std::string& text);
 

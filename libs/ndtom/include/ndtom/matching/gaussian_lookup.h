@@ -45,6 +45,11 @@ class GaussianLookup {
   /// Every cell of `map` with a Gaussian (N ≥ 3), its covariance regularised as the map's
   /// options say. O(G log G) for G Gaussians.
   explicit GaussianLookup(const NdtMap& map, const LookupOptions& options = {});
+  /// The given Gaussians (their covariance regularised already, one per cell) on the grid of
+  /// `geometry`: levels made without a map of their own (MapPyramid's coarse levels).
+  /// `options.occupied_only` is the caller's to have applied.
+  GaussianLookup(const GridGeometry& geometry, const std::vector<Gaussian>& gaussians,
+                 const LookupOptions& options = {});
 
   const GridGeometry& geometry() const { return geometry_; }
   size_t size() const { return gaussians_.size(); }
@@ -67,6 +72,8 @@ class GaussianLookup {
 
  private:
   static constexpr uint32_t kNone = UINT32_MAX;
+  /// Sorts gaussians_ by cell and builds the cell index and, if asked, the k-d tree.
+  void index(bool nearest_means);
   /// Indices into gaussians_ of the cells of one block, kNone where there is no Gaussian.
   struct IndexBlock {
     std::array<uint32_t, kBlockCells> index;

@@ -55,6 +55,10 @@ struct OnlineMapperOptions {
   /// Directions of the pose's translation whose standard deviation (from the registration's
   /// covariance) exceeds this keep the prediction's component (Default: 0.1 m; inf: never).
   double weak_direction_sigma = 0.1;
+  /// Of the scan points on its ground plane, one in this many take part in registration (all
+  /// of them are inserted): registered on every ground point, a lidar moving over flat ground
+  /// seems to stand still, its rings falling where the last scans' did (Default: 10; 1: all).
+  int ground_thinning = 10;
   /// Threads of registration and insertion; the result is the same for any count (Default: 1).
   int threads = 1;
 };

@@ -59,9 +59,10 @@ struct RegistrationOptions {
   size_t max_points = 6000;
   /// Verdict: of the scan points (P2D) or scan Gaussians (D2D) the map can judge, the
   /// fraction within 3σ of a map Gaussian at the finest level must reach this (Default: 0.4).
-  /// With occupancy, the map judges what lands in space it has observed (a known cell) or
-  /// matches; what lands where it has never looked is neither a match nor a miss, so a scan
-  /// that overlaps the map in part is placed. Without occupancy every item is judged ...
+  /// With occupancy, the map judges what matches, or lands in a cell it has seen free or one
+  /// with a Gaussian; what lands where it has never looked (or in an occupied cell too thin
+  /// for a Gaussian) is neither a match nor a miss, so a scan that overlaps the map in part is
+  /// placed. Without occupancy every item is judged ...
   double min_matched_fraction = 0.4;
   /// ... and the judged fraction of the scan must reach this: below it, too little of the
   /// scan overlaps what the map knows to tell a right pose from a wrong one (Default: 0.15).
@@ -143,13 +144,21 @@ class NdtRegistration {
 
   /// The pyramid used by the last call (null before the first).
   std::shared_ptr<const MapPyramid> pyramid() const { return pyramid_; }
-  /// The pyramid for `map`: the cached one if it is up to date, else a new one.
+  /// The pyramid for `map`: the pinned one or the cached one if it is for the map as it is,
+  /// else a new one.
   std::shared_ptr<const MapPyramid> pyramidFor(const NdtMap& map);
+  /// Registers against `pyramid` (its level factors must be the options') while the map
+  /// given to align() has revision `revision`, instead of building one from that map: an
+  /// online mapper's pyramid of the map's region around the sensor, kept as the map grows.
+  /// The verdict still judges against the map itself. A null pyramid unpins.
+  void pinPyramid(std::shared_ptr<const MapPyramid> pyramid, uint64_t revision);
 
  private:
   struct State;  // the worker pool, and the last scan as the levels see it
   RegistrationOptions options_;
   std::shared_ptr<const MapPyramid> pyramid_;
+  std::shared_ptr<const MapPyramid> pinned_;
+  uint64_t pinned_revision_ = 0;
   std::unique_ptr<State> state_;
 };
 
