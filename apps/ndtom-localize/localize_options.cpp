@@ -135,21 +135,6 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
   return table;
 }
 
-// The searches score and sort on pyramid levels: the nearest levels to their defaults
-// when --levels leaves those out.
-void fitSearchToLevels(LocalizeOptions& o) {
-  const std::vector<int>& levels = o.tracking.registration.level_factors;
-  if (levels.empty()) return;
-  auto nearest = [&](int wanted) {
-    return *std::min_element(levels.begin(), levels.end(), [&](int a, int b) {
-      return std::abs(a - wanted) < std::abs(b - wanted);
-    });
-  };
-  ndtom::GlobalSearchOptions& g = o.tracking.global;
-  g.scoring_level_factor = nearest(g.scoring_level_factor);
-  g.coarse_refinement_factor = nearest(g.coarse_refinement_factor);
-}
-
 void checkComplete(const LocalizeOptions& o) {
   if (o.map_path.empty()) throw UsageError("missing MAP (see --help)");
   if (o.input.empty()) throw UsageError("missing INPUT (see --help)");
@@ -190,7 +175,7 @@ LocalizeOptions parseLocalizeOptions(int argc, char** argv) {
   if (positional.size() > 2) throw UsageError("more than MAP and INPUT: '" + positional[2] + "'");
   if (positional.size() > 0) o.map_path = positional[0];
   if (positional.size() > 1) o.input = positional[1];
-  fitSearchToLevels(o);
+  o.tracking.global = ndtom::fittedToLevels(o.tracking.global, o.tracking.registration.level_factors);
   if (!o.help) checkComplete(o);
   return o;
 }

@@ -43,13 +43,16 @@ const apps::OptionTable<SlamOptions>& optionTable() {
        {true,
         [](O& o, const std::string& v) {
           o.online.target_refresh_distance = parseReal("--target-refresh", v);
-          o.online.target_max_scans = 1000000;  // by distance (and --target-refresh-angle) only
         }}},
       {"--target-refresh-angle",
        {true,
         [](O& o, const std::string& v) {
           o.online.target_refresh_angle_deg = parseReal("--target-refresh-angle", v);
-          o.online.target_max_scans = 1000000;
+        }}},
+      {"--target-refresh-scans",
+       {true,
+        [](O& o, const std::string& v) {
+          o.online.target_max_scans = int(parseInteger("--target-refresh-scans", v, 1, 1000000));
         }}},
       {"--recovery-radius",
        {true, [](O& o, const std::string& v) { o.online.recovery_radius = parseReal("--recovery-radius", v); }}},
@@ -149,17 +152,18 @@ std::string helpText() {
        "\n"
        "Registration:\n"
        "  --method p2d|d2d          point-to-distribution or distribution-to-distribution (p2d)\n"
-       "  --levels LIST             pyramid, coarse to fine, multiples of the cell (16,8,4,2,1)\n"
+       "  --levels LIST             pyramid, coarse to fine, multiples of the cell (16,8,4,2)\n"
        "  --planar                  only x, y, yaw (2D scans, flat ground)\n"
        "  --max-points N            scan points per level at most (6000)\n"
        "  --min-matched-fraction F  verdict: matched part of what the map can judge (0.25)\n"
        "  --min-judged-fraction F   verdict: scan share where the map has looked (0.15)\n"
-       "  --target-radius M         register against the map within M metres (80)\n"
-       "  --target-refresh M        cut that region again only after M metres of travel ...\n"
-       "  --target-refresh-angle D  ... or D degrees of turn (default: every scan)\n"
+       "  --target-radius M         register against the map within M metres (50)\n"
+       "  --target-refresh M        cut that region again after M metres of travel (2) ...\n"
+       "  --target-refresh-angle D  ... or D degrees of turn (10) ...\n"
+       "  --target-refresh-scans N  ... or N scans (10; 1: every scan)\n"
        "  --recovery-radius M       when the verdict fails: search x, y within M metres (2)\n"
        "  --recovery-yaw DEG        ... and yaw within +-DEG of the prediction (60)\n"
-       "  --ground-thinning K       one in K points on the scan's ground plane registers (10);\n"
+       "  --ground-thinning K       one in K points on the scan's ground plane registers (100);\n"
        "                            all are inserted. On flat ground every ring point makes a\n"
        "                            moving lidar seem to stand still\n"
        "  --weak-sigma M            directions the scene constrains worse than M (std. dev.)\n"

@@ -70,6 +70,21 @@ TEST(CopyBlocks, CopiesWhatExtractionWouldMoveAndLeavesTheMap) {
   ndtom::testing::expectBitIdentical(copy, moved);
   EXPECT_EQ(copy.memoryBytes(), copy.memoryBytesCounted());
   EXPECT_NE(copy.revision(), map.revision());
+  // Only the blocks with statistics: every cell with statistics, no block without.
+  const NdtMap with_stats = ndtom::copyBlocks(map, take, /*statistics_only=*/true);
+  size_t stats_cells = 0, stats_cells_copied = 0;
+  copy.forEachCell([&](const CellView& c) { stats_cells += c.stats != nullptr; });
+  with_stats.forEachCell([&](const CellView& c) { stats_cells_copied += c.stats != nullptr; });
+  EXPECT_EQ(stats_cells_copied, stats_cells);
+  EXPECT_GT(stats_cells, 50u);
+  EXPECT_LT(with_stats.numBlocks(), copy.numBlocks());
+  with_stats.forEachBlock([&](const CellIndex& b) {
+    bool any = false;
+    with_stats.forEachCell([&](const CellView& c) {
+      any = any || (blockOf(c.index) == b && c.stats != nullptr);
+    });
+    EXPECT_TRUE(any);
+  });
 }
 
 }  // namespace

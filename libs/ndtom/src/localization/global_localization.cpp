@@ -123,6 +123,18 @@ std::string ambiguity(const std::vector<RegistrationResult>& converged,
 
 }  // namespace
 
+GlobalSearchOptions fittedToLevels(GlobalSearchOptions search, const std::vector<int>& levels) {
+  if (levels.empty()) return search;
+  auto nearest = [&](int wanted) {
+    return *std::min_element(levels.begin(), levels.end(), [&](int a, int b) {
+      return std::abs(a - wanted) < std::abs(b - wanted);
+    });
+  };
+  search.scoring_level_factor = nearest(search.scoring_level_factor);
+  search.coarse_refinement_factor = nearest(search.coarse_refinement_factor);
+  return search;
+}
+
 void validate(const GlobalSearchOptions& o) {
   if (!(o.position_step >= 0.1 && o.position_step <= 100))
     failOption("position_step", o.position_step, "must be in [0.1, 100] m");

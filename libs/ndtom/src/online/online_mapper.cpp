@@ -15,7 +15,7 @@ namespace ndtom {
 
 void validate(const OnlineMapperOptions& o) {
   validate(o.registration);
-  validate(o.search);
+  validate(fittedToLevels(o.search, o.registration.level_factors));
   validate(o.map);
   if (!(o.target_radius > 0 && std::isfinite(o.target_radius)))
     failOption("target_radius", o.target_radius, "must be finite and > 0");
@@ -64,7 +64,8 @@ struct OnlineMapper::Tracking {
   Tracking(const OnlineMapperOptions& o, const Eigen::Isometry3d& first_pose)
       : first_pose(first_pose),
         motion(first_pose),
-        search(o.search, withThreads(o.registration, o.threads)) {}
+        search(fittedToLevels(o.search, o.registration.level_factors),
+               withThreads(o.registration, o.threads)) {}
 
   /// The first registration start that the verdict accepts, else a search around the
   /// prediction; the step's outcome, pose and registration say which, if any.

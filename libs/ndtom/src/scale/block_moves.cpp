@@ -56,11 +56,12 @@ NdtMap extractBlockRange(NdtMap& map, const CellIndex& lo, const CellIndex& hi) 
   return out;
 }
 
-NdtMap copyBlocks(const NdtMap& map, const std::function<bool(const CellIndex& block)>& take) {
+NdtMap copyBlocks(const NdtMap& map, const std::function<bool(const CellIndex& block)>& take,
+                  bool statistics_only) {
   NdtMap out(map.options());
   Blocks& blocks = MapInternals::grid(out).blocks();
   for (const auto& [index, block] : MapInternals::grid(map).blocks()) {
-    if (!take(index)) continue;
+    if ((statistics_only && block->stats.empty()) || !take(index)) continue;
     auto copy = std::make_unique<MapBlock>(*block);
     MapInternals::countBlocks(out, copy->known.count(), statsBytes(copy->stats));
     blocks.emplace(index, std::move(copy));

@@ -44,6 +44,10 @@ struct GlobalSearchOptions {
 
 /// Throws std::invalid_argument naming the bad option.
 void validate(const GlobalSearchOptions& options);
+/// `search` with its scoring and coarse refinement levels moved to the nearest of the
+/// registration's `level_factors` (they score and sort on pyramid levels), when those leave
+/// the defaults out.
+GlobalSearchOptions fittedToLevels(GlobalSearchOptions search, const std::vector<int>& level_factors);
 
 /// The ground in the scan: the sensor's up direction and height above it.
 struct GravityGuess {

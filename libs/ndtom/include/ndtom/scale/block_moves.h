@@ -16,9 +16,12 @@ NdtMap extractBlocks(NdtMap& map, const std::function<bool(const CellIndex& bloc
 /// range's blocks up one by one where that is cheaper than visiting every block.
 NdtMap extractBlockRange(NdtMap& map, const CellIndex& lo, const CellIndex& hi);
 /// Copies the blocks of `map` whose coordinates `take` accepts into a new map with its
-/// options (a region to register against while `map` goes on growing). The copy is not
-/// counted against the memory budget: it is the caller's bounded working set.
-NdtMap copyBlocks(const NdtMap& map, const std::function<bool(const CellIndex& block)>& take);
+/// options (a region to register against while `map` goes on growing); with
+/// `statistics_only`, only those holding some cell statistics (all a registration pyramid
+/// reads: most blocks hold only free space). The copy is not counted against the memory
+/// budget: it is the caller's bounded working set.
+NdtMap copyBlocks(const NdtMap& map, const std::function<bool(const CellIndex& block)>& take,
+                  bool statistics_only = false);
 /// Moves every block of `other` into `map`. Throws std::invalid_argument, moving nothing, if
 /// the resolutions differ or a block is in both.
 void absorbBlocks(NdtMap& map, NdtMap&& other);
