@@ -126,6 +126,27 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
           o.tracking.registration.threads = int(parseInteger("--threads", v, 1, 256));
         }}},
       {"--no-pictures", {false, [](O& o, const std::string&) { o.pictures = false; }}},
+      {"--live-map",
+       {true,
+        [](O& o, const std::string& v) {
+          if (v != "on" && v != "off") throw UsageError("--live-map: expected on or off, got '" + v + "'");
+          o.tracking.live.enabled = v == "on";
+        }}},
+      {"--live-radius",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.live.radius = parseReal("--live-radius", v);
+          if (!(o.tracking.live.radius >= 5 && o.tracking.live.radius <= 10000))
+            throw UsageError("--live-radius = " + v + ": must be in [5, 10000] m");
+        }}},
+      {"--save-map",
+       {true,
+        [](O& o, const std::string& v) {
+          if (v.empty() || v.back() == '/')
+            throw UsageError("--save-map " + v + ": PREFIX names a file, e.g. out/extended");
+          o.save_map_prefix = v;
+          o.tracking.live.keep_all = true;
+        }}},
       {"--image-width",
        {true,
         [](O& o, const std::string& v) {
@@ -141,6 +162,8 @@ void checkComplete(const LocalizeOptions& o) {
   if (o.prefix.empty()) throw UsageError("missing -o PREFIX (see --help)");
   if (o.prefix.back() == '/')
     throw UsageError("-o " + o.prefix + ": PREFIX names files, e.g. out/run, not a folder");
+  if (!o.save_map_prefix.empty() && !o.tracking.live.enabled)
+    throw UsageError("--save-map " + o.save_map_prefix + ": needs the live map (--live-map on)");
   std::error_code ec;
   if (!o.reference_file.empty() && !std::filesystem::is_regular_file(o.reference_file, ec))
     throw UsageError("--reference " + o.reference_file + ": no such file");
@@ -207,6 +230,12 @@ std::string helpText() {
       "  --global-every-scan       no tracking: search every scan in the whole map\n"
       "  --recovery-radius M       the search around the prediction: x, y within M m (4) and\n"
       "                            yaw within 60 degrees\n"
+      "  --live-map on|off         keep a map of the localized scans beside the prior map and\n"
+      "                            register against both (the prior's cells win where both\n"
+      "                            have one): tracking goes on where the prior map ends (on)\n"
+      "  --live-radius M           the live map's region around the robot [m] (50)\n"
+      "  --save-map PREFIX         write PREFIX.ndtom: the prior map extended by the live map\n"
+      "                            (the prior map file is never changed)\n"
       "  --region-radius M         a tiled map (.ndtomtiles): tiles within M m (x, y) of the\n"
       "                            predicted pose resident, farther ones dropped; a search of\n"
       "                            the whole map loads every tile (60)\n"
@@ -231,7 +260,8 @@ std::string helpText() {
       "\n"
       "Output:\n"
       "  -o, --output PREFIX       PREFIX.tum (t x y z qx qy qz qw per localized scan),\n"
-      "                            PREFIX.scans.csv (per scan: outcome, pose, error, time),\n"
+      "                            PREFIX.scans.csv (per scan: outcome, pose, error, which\n"
+      "                            map placed it, time),\n"
       "                            PREFIX.summary.json (per scan: levels, iterations, score,\n"
       "                            matched fraction, outcome, error, time), PREFIX.top.png\n"
       "                            (the path on the map, coloured by error if known)\n"

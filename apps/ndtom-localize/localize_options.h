@@ -32,6 +32,8 @@ struct LocalizeOptions {
   /// --initial, --relocalize, the registration and the searches.
   TrackingSettings tracking;
 
+  std::string save_map_prefix;  ///< --save-map: PREFIX.ndtom, the prior map extended
+
   bool pictures = true;
   int image_width = 1200;
   bool quiet = false;

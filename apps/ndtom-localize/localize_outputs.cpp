@@ -53,6 +53,9 @@ void writeScan(apps::JsonWriter& j, const ScanRecord& r) {
   j.field("score", r.result.score);
   j.field("matched_fraction", r.result.matched_fraction);
   j.field("judged_fraction", r.result.judged_fraction);
+  j.field("placed_in", placedIn(r));
+  j.field("in_prior", r.in_prior);
+  j.field("in_live", r.in_live);
   j.field("free_fraction", r.result.free_fraction);
   j.field("seconds", r.seconds);
   if (r.pose) writePose(j, "pose_xyz_qxyzw", *r.pose);
@@ -93,7 +96,7 @@ std::string trajectoryTum(const TrackingResult& tracking) {
 std::string scansCsv(const TrackingResult& tracking) {
   apps::CsvTable table({"index", "time", "outcome", "found_by", "registrations", "x", "y", "z",
                         "qx", "qy", "qz", "qw", "error_m", "error_deg", "matched_fraction",
-                        "judged_fraction", "free_fraction", "seconds", "map_bytes", "rss_bytes"});
+                        "judged_fraction", "free_fraction", "placed_in", "in_prior", "in_live", "seconds", "map_bytes", "rss_bytes"});
   const auto g9 = [](double v) { return apps::CsvCell::formatted("%.9g", v); };
   for (const ScanRecord& r : tracking.scans) {
     std::vector<apps::CsvCell> row = {r.index, apps::CsvCell::formatted("%.6f", r.time),
@@ -108,7 +111,8 @@ std::string scansCsv(const TrackingResult& tracking) {
     const auto e = errorOf(r);
     row.insert(row.end(), {e ? std::to_string(e->translation) : "",
                            e ? std::to_string(e->rotation) : "", g9(r.result.matched_fraction),
-                           g9(r.result.judged_fraction), g9(r.result.free_fraction), g9(r.seconds), r.map_bytes, r.rss_bytes});
+                           g9(r.result.judged_fraction), g9(r.result.free_fraction),
+                           placedIn(r), g9(r.in_prior), g9(r.in_live), g9(r.seconds), r.map_bytes, r.rss_bytes});
     table.addRow(row);
   }
   return table.text();
@@ -165,6 +169,14 @@ std::string summaryJson(const LocalizeSummary& s) {
   j.field("relocalized", t.count(Outcome::Relocalized));
   j.field("lost", t.count(Outcome::Lost));
   j.field("global_searches", t.global_searches);
+  j.field("live_map", o.tracking.live.enabled);
+  size_t by_live = 0, by_both = 0;
+  for (const ScanRecord& r : t.scans) {
+    by_live += placedIn(r) == std::string("live");
+    by_both += placedIn(r) == std::string("prior+live");
+  }
+  j.field("placed_in_live_map_only", by_live);
+  j.field("placed_in_both_maps", by_both);
   if (const auto a = accuracyOf(t)) {
     j.beginObject("accuracy");
     j.field("scans", a->scans);
@@ -180,14 +192,7 @@ std::string summaryJson(const LocalizeSummary& s) {
   j.field("tracking_seconds", t.seconds);
   j.field("total_seconds", s.total_seconds);
   j.field("peak_rss_bytes", s.peak_rss);
-  j.beginArray("files");
-  for (const auto& f : s.files) {
-    j.beginObject();
-    j.field("role", f.role);
-    j.field("path", f.path);
-    j.endObject();
-  }
-  j.endArray();
+  apps::writeFileList(j, s.files);
   j.beginArray("per_scan");
   for (const ScanRecord& r : t.scans) writeScan(j, r);
   j.endArray();
@@ -205,6 +210,14 @@ std::string summaryText(const LocalizeSummary& s) {
       << s.map_gaussians << " Gaussians): " << t.count(Outcome::Tracked) << " tracked, "
       << t.count(Outcome::Recovered) << " recovered, " << t.count(Outcome::Relocalized)
       << " found by global search\n";
+  size_t by_live = 0, by_both = 0;
+  for (const ScanRecord& r : t.scans) {
+    by_live += placedIn(r) == std::string("live");
+    by_both += placedIn(r) == std::string("prior+live");
+  }
+  if (by_live + by_both > 0)
+    out << "placed with the live map of the localized scans: " << by_live + by_both << " scans ("
+        << by_live << " by it alone, where the prior map does not reach)\n";
   if (const auto a = accuracyOf(t)) {
     out << std::setprecision(3) << "error to the reference (" << a->scans << " scans): RMSE "
         << a->rmse << " m, max " << a->max << " m; rotation RMSE " << a->rotation_rmse

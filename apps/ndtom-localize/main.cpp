@@ -9,6 +9,7 @@
 #include "localize_options.h"
 #include "localize_outputs.h"
 #include "map_file.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom/map/map_queries.h"
 #include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
@@ -174,6 +175,15 @@ int run(const LocalizeOptions& o) {
 
   // Write the outputs (under temporary names until everything has succeeded).
   writeTrajectoryOutputs(loaded.map(), tracking, o, out);
+  if (tracking.extended_map) {
+    const std::string path = o.save_map_prefix + ".ndtom";
+    try {
+      ndtom::saveMap(*tracking.extended_map, path);
+    } catch (const std::exception& e) {
+      throw InputError("--save-map " + path + ": " + ndtom::apps::oneLineMessage(e));
+    }
+    if (!o.quiet) std::fprintf(stderr, "ndtom-localize: the extended map: %s\n", path.c_str());
+  }
   writeSummaryAndCommit(o, loaded, source->description(), tracking, region_summary, start, out);
   return 0;
 }

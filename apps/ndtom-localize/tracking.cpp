@@ -29,7 +29,9 @@ class Tracker {
         settings_(settings),
         global_(settings.global, settings.registration),
         motion_(settings.initial.value_or(Eigen::Isometry3d::Identity())),
-        localized_(settings.initial.has_value()) {}
+        localized_(settings.initial.has_value()) {
+    if (settings.live.enabled) live_.emplace(map.options(), settings.live);
+  }
 
   void localize(const apps::Scan& scan, ScanRecord& record, TrackingResult& totals) {
     const std::vector<Eigen::Vector3d> points = apps::pointsInFrame(scan);
@@ -40,7 +42,7 @@ class Tracker {
     if (!search_everywhere) {
       record.prediction = predict(scan);
       if (settings_.prepare_map) settings_.prepare_map(record.prediction->translation());
-      track(points, record);
+      track(targetFor(*record.prediction), points, record);
     }
     if (record.outcome == Outcome::Lost && search_everywhere) {
       if (settings_.prepare_map) settings_.prepare_map(std::nullopt);
@@ -53,6 +55,7 @@ class Tracker {
     } else {
       lost_in_a_row_ = 0;
     }
+    if (live_ && record.outcome != Outcome::Lost) extendLiveMap(scan, record);
     if (record.pose) {
       if (record.outcome == Outcome::Relocalized)
         motion_ = ConstantVelocity(*record.pose);  // the velocity before is unknown
@@ -71,14 +74,41 @@ class Tracker {
     return motion_.predict(scan.time);
   }
 
-  void track(const std::vector<Eigen::Vector3d>& points, ScanRecord& record) {
+  /// The prior map with the live one around `prediction`; the prior map alone where nothing
+  /// of either is near (then the registration says how far off the scan is).
+  const ndtom::NdtMap& targetFor(const Eigen::Isometry3d& prediction) {
+    if (!live_) return map_;
+    const ndtom::NdtMap& target = live_->targetAround(map_, prediction);
+    return target.numGaussians() > 0 ? target : map_;
+  }
+
+  /// The scan at its pose into the live map, and which map(s) its points land in.
+  void extendLiveMap(const apps::Scan& scan, ScanRecord& record) {
+    apps::Scan placed = scan;
+    apps::placeAt(placed, *record.pose);
+    const LiveMap::Shares shares = live_->sharesOf(map_, placed.points_world);
+    record.in_prior = shares.prior;
+    record.in_live = shares.live;
+    live_->insert(placed.points_world, placed.sensor_origin);
+  }
+
+ public:
+  std::optional<ndtom::NdtMap> extendedMap() const {
+    if (!live_ || !settings_.live.keep_all) return std::nullopt;
+    return live_->extended(map_);
+  }
+
+ private:
+  // `map`: the prior map, or with the live map's cells where the prior has none.
+  void track(const ndtom::NdtMap& map, const std::vector<Eigen::Vector3d>& points,
+             ScanRecord& record) {
     const Eigen::Isometry3d prediction = *record.prediction;
     for (const Attempt& a :
          {Attempt{"prediction", prediction}, Attempt{"last pose", motion_.lastPose()}}) {
       if (a.name != "prediction" && a.start.isApprox(prediction)) continue;  // nothing new
       ++record.registrations;
       try {
-        record.result = global_.registration().align(map_, points, a.start);
+        record.result = global_.registration().align(map, points, a.start);
       } catch (const std::invalid_argument& e) {  // no usable point: nothing will place it
         record.result = ndtom::RegistrationResult{};
         record.result.failure = e.what();
@@ -90,7 +120,7 @@ class Tracker {
       }
     }
     const ndtom::GlobalLocalizationResult search = global_.searchAround(
-        map_, points, prediction, settings_.recovery_radius, settings_.recovery_yaw_deg);
+        map, points, prediction, settings_.recovery_radius, settings_.recovery_yaw_deg);
     record.registrations += int(search.refined + search.fully_refined);
     if (search.found) {
       record.result = search.best;
@@ -128,6 +158,7 @@ class Tracker {
   const TrackingSettings& settings_;
   ndtom::GlobalLocalizer global_;  // holds the registration (and its pyramid) for all uses
   ConstantVelocity motion_;
+  std::optional<LiveMap> live_;
   std::optional<Eigen::Isometry3d> last_odometry_;
   bool localized_;
   int lost_in_a_row_ = 0;
@@ -147,6 +178,13 @@ const char* toString(Outcome outcome) {
       return "lost";
   }
   return "?";
+}
+
+const char* placedIn(const ScanRecord& r) {
+  if (r.outcome == Outcome::Lost) return "";
+  if (r.in_live <= 0.05 * (r.in_prior + r.in_live)) return "prior";
+  if (r.in_prior < 0.05 * (r.in_prior + r.in_live)) return "live";
+  return "prior+live";
 }
 
 size_t TrackingResult::count(Outcome outcome) const {
@@ -182,6 +220,7 @@ TrackingResult track(const ndtom::NdtMap& map, apps::ScanSource& source,
     progress.update(out.scans.size(), points_done);
   }
   progress.finish();
+  out.extended_map = tracker.extendedMap();
   out.seconds = apps::secondsSince(start);
   return out;
 }

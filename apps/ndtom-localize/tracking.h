@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "live_map.h"
 #include "ndtom/localization/global_localization.h"
 #include "ndtom/registration/registration.h"
 #include "ndtom_apps/progress.h"
@@ -29,6 +30,7 @@ struct TrackingSettings {
   /// Called before each scan is localized with where the robot is predicted to be, or with
   /// nothing before a search of the whole map: a map held in part (RegionMap) loads there.
   std::function<void(const std::optional<Eigen::Vector3d>& around)> prepare_map;
+  LiveMapSettings live;  ///< the map of the localized scans beside the prior map
 };
 
 /// How a scan's pose was found.
@@ -49,6 +51,9 @@ struct ScanRecord {
   /// The pose kept: the registration's if it converged, else the prediction (if any).
   std::optional<Eigen::Isometry3d> pose;
   std::optional<Eigen::Isometry3d> reference;  ///< from the input or --reference
+  /// Of the scan's points at the kept pose: the fraction in cells with a Gaussian of the
+  /// prior map, and of the live map only (which map placed it).
+  double in_prior = 0, in_live = 0;
   double seconds = 0;                          ///< localizing this scan (reading excluded)
   size_t map_bytes = 0;                        ///< the map's memory after it (resident part)
   size_t rss_bytes = 0;                        ///< the process's resident memory after it
@@ -61,7 +66,12 @@ struct TrackingResult {
   size_t localized() const { return scans.size() - count(Outcome::Lost); }
   bool odometry_used = false;
   size_t global_searches = 0;
+  /// The prior map extended by the live map's cells (only when live.keep_all).
+  std::optional<ndtom::NdtMap> extended_map;
 };
+
+/// Which map(s) placed a scan: "prior", "live" or "prior+live" (by where its points land).
+const char* placedIn(const ScanRecord& record);
 
 /// A pose for a scan from elsewhere (a --reference trajectory), by scan index and time.
 using ReferenceLookup =

@@ -167,9 +167,7 @@ std::string summaryJson(const RunSummary& s) {
   writePoints(j, m.points, m.skips);
   writeMapAndCosts(j, s);
   writePasses(j, m.passes);
-  j.beginObject("files");
-  for (const apps::WrittenFile& f : s.files) j.field(f.role, f.path);
-  j.endObject();
+  apps::writeFileList(j, s.files);
   j.endObject();
   return j.str();
 }

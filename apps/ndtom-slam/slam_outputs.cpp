@@ -99,14 +99,7 @@ std::string summaryJson(const SlamSummary& s) {
   j.field("loop_seconds", r.seconds);
   j.field("total_seconds", s.total_seconds);
   j.field("peak_rss_bytes", s.peak_rss);
-  j.beginArray("files");
-  for (const apps::WrittenFile& f : s.files) {
-    j.beginObject();
-    j.field("role", f.role);
-    j.field("path", f.path);
-    j.endObject();
-  }
-  j.endArray();
+  apps::writeFileList(j, s.files);
   j.beginArray("per_scan");
   for (const SlamScan& scan : r.scans) writeStep(j, scan);
   j.endArray();

@@ -126,6 +126,35 @@ TEST(LocalizeEndToEnd, ScansOutsideTheMapAreReportedNotTracked) {
   EXPECT_EQ(readText(prefix + ".tum"), "");  // no pose is claimed
 }
 
+// The localized scans extend the prior map in a file of its own; the prior map's file is
+// never written.
+TEST(LocalizeEndToEnd, SaveMapWritesThePriorMapExtendedByTheLiveMap) {
+  Fixture f;
+  const std::string prior_bytes = readText(f.map);
+  const std::string prefix = (f.dir / "run").string(), extended = (f.dir / "extended").string();
+  const std::string common = mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
+                             " --no-pictures --initial " + mapper_test::quoted(tumPose(f.offStart())) +
+                             " --save-map " + mapper_test::quoted(extended) + " -o ";
+  const ProgramRun run = runExecutable(kLocalize, common + mapper_test::quoted(prefix), f.dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(readText(f.map), prior_bytes);
+  const ndtom::NdtMap prior = ndtom::loadMap(f.map);
+  const ndtom::NdtMap bigger = ndtom::loadMap(extended + ".ndtom");
+  EXPECT_GT(bigger.numCells(), prior.numCells());
+  prior.forEachCell([&](const ndtom::CellView& c) {
+    const auto e = bigger.cell(c.index);
+    ASSERT_TRUE(e.has_value());
+    EXPECT_EQ(e->logodds, c.logodds);
+  });
+  const std::string csv = readText(prefix + ".scans.csv");
+  EXPECT_NE(csv.find("placed_in"), std::string::npos);
+  // Without the live map there is nothing to save: refused before any work.
+  const ProgramRun refused =
+      runExecutable(kLocalize, common + mapper_test::quoted(prefix + "2") + " --live-map off", f.dir);
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("needs the live map"), std::string::npos) << refused.err;
+}
+
 TEST(LocalizeEndToEnd, WithoutAStartPoseTheFirstScanIsSearchedForAndErrorsReported) {
   Fixture f;
   // The reference for scans 5-9 (KITTI, line i = i-th scan of the folder).

@@ -1,6 +1,6 @@
 // ndtom-localize's pieces: the constant-velocity prediction against trajectories whose
-// motion is known, the --initial pose parser, and the resident tiles of a region map against
-// the rule computed from the tiles' coordinates.
+// motion is known, the --initial pose parser, the resident tiles of a region map against
+// the rule computed from the tiles' coordinates, and the live map beside the prior one.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,6 +12,8 @@
 #include "ndtom/localization/motion_prediction.h"
 #include "ndtom/files/tiled_map_io.h"
 #include "ndtom_apps/option_values.h"
+#include "live_map.h"
+#include "ndtom/map/block_grid.h"
 #include "region_map.h"
 
 using namespace ndtom::localizer;
@@ -153,4 +155,69 @@ TEST(LocalizeOptions, InitialPoseInTumOrder) {
   EXPECT_TRUE((p.linear() * Vector3d::UnitX()).isApprox(Vector3d::UnitY(), 1e-12));
   for (const char* bad : {"1 2 3", "1 2 3 0 0 0 0", "1 2 3 0 0 0 x", "1 2 3 0 0 0 1 5", "nan 0 0 0 0 0 1"})
     EXPECT_THROW(parsePose("--initial", bad), ndtom::apps::UsageError) << bad;
+}
+
+namespace {
+
+// A wall of points along y at x = `x`, from y0 to y1, seen from (x - 5, mid, 1).
+std::vector<Vector3d> wallScan(double x, double y0, double y1) {
+  std::vector<Vector3d> points;
+  for (double y = y0; y < y1; y += 0.05)
+    for (double z = 0.05; z < 3; z += 0.05) points.emplace_back(x, y, z);
+  return points;
+}
+
+}  // namespace
+
+// The target is the prior map's region with the live map's blocks where the prior has none:
+// every prior cell as it is, live cells only in blocks the prior never entered. The extended
+// map is the prior map plus those, and blocks far behind the robot leave the live map.
+TEST(LiveMap, PriorBlocksWinAndLiveBlocksFillTheRest) {
+  ndtom::MapOptions o;
+  o.resolution = 0.2;
+  ndtom::NdtMap prior(o);
+  prior.insertScan(wallScan(10, -10, 0), Vector3d(5, -5, 1));
+  LiveMapSettings settings;
+  settings.radius = 40;
+  settings.keep_all = true;
+  LiveMap live(o, settings);
+  live.insert(wallScan(10.02, -6, 12), Vector3d(5, 3, 1));  // overlaps the prior's wall
+  Isometry3d at = Isometry3d::Identity();
+  at.translation() = Vector3d(5, 0, 1);
+  const ndtom::NdtMap& target = live.targetAround(prior, at);
+  std::set<ndtom::CellIndex> prior_blocks;
+  prior.forEachBlock([&](const ndtom::CellIndex& b) { prior_blocks.insert(b); });
+  size_t from_live = 0;
+  target.forEachCell([&](const ndtom::CellView& c) {
+    const auto p = prior.cell(c.index);
+    if (prior_blocks.count(ndtom::blockOf(c.index))) {
+      ASSERT_TRUE(p.has_value());  // a prior block holds the prior's cells only
+      EXPECT_EQ(c.logodds, p->logodds);
+      return;
+    }
+    const auto l = live.map().cell(c.index);
+    ASSERT_TRUE(l.has_value());
+    EXPECT_EQ(c.logodds, l->logodds);
+    ++from_live;
+  });
+  EXPECT_GT(from_live, 100u);
+  prior.forEachCell([&](const ndtom::CellView& c) { EXPECT_TRUE(target.cell(c.index)); });
+  // Unchanged map, unchanged policy: the same target object, not cut again.
+  EXPECT_EQ(&live.targetAround(prior, at), &target);
+
+  const ndtom::NdtMap extended = live.extended(prior);
+  EXPECT_GT(extended.numCells(), prior.numCells());
+  prior.forEachCell([&](const ndtom::CellView& c) {
+    const auto e = extended.cell(c.index);
+    ASSERT_TRUE(e.has_value());
+    EXPECT_EQ(e->logodds, c.logodds);
+  });
+
+  // 500 m on, the first wall is far behind: it leaves the live map, but stays in the extended
+  // map (kept for --save-map).
+  const size_t before = live.map().numCells();
+  live.insert(wallScan(510, 0, 5), Vector3d(505, 2, 1));
+  EXPECT_LT(live.map().numCells(), before);
+  EXPECT_FALSE(live.map().cellAt(Vector3d(10.02, 5.0, 1.0)).has_value());
+  EXPECT_TRUE(live.extended(prior).cellAt(Vector3d(10.02, 5.0, 1.0)).has_value());
 }

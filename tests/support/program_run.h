@@ -61,6 +61,9 @@ struct Csv {
   double number(size_t row, const std::string& column) const {
     return std::stod(rows.at(row).at(column));
   }
+  const std::string& text(size_t row, const std::string& column) const {
+    return rows.at(row).at(column);
+  }
 };
 
 inline Csv readCsv(const std::filesystem::path& path) {

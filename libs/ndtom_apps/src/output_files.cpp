@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "ndtom_apps/json_writer.h"
 #include "ndtom_apps/option_values.h"
 
 namespace fs = std::filesystem;
@@ -186,6 +187,12 @@ void OutputFiles::commit() {
     if (had_previous[i]) ::unlink(asidePathFor(files_[i].path).c_str());
   committed_ = true;
   g_temporaries.clear();
+}
+
+void writeFileList(JsonWriter& j, const std::vector<WrittenFile>& files) {
+  j.beginObject("files");
+  for (const WrittenFile& f : files) j.field(f.role, f.path);
+  j.endObject();
 }
 
 }  // namespace ndtom::apps

@@ -18,6 +18,10 @@ struct WrittenFile {
   std::string path;
 };
 
+class JsonWriter;
+/// A summary's "files": {"role": "path", ...}, as every program writes it.
+void writeFileList(JsonWriter& j, const std::vector<WrittenFile>& files);
+
 class OutputFiles {
  public:
   /// Outputs are PREFIX + suffix. Creates PREFIX's folder if needed (throws apps::UsageError if
