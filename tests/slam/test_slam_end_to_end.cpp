@@ -2,9 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iomanip>
 #include <sstream>
 
 #include "mapper/mapper_run.h"
+#include "ndtom_io/pcd_reader.h"
 
 using namespace mapper_test;
 
@@ -80,4 +83,56 @@ TEST(SlamEndToEnd, AFolderWithoutScansIsAClearError) {
       kSlam, quoted((dir / "empty").string()) + " -o " + quoted((dir / "x").string()), dir);
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("nor .pcd files"), std::string::npos) << run.err;
+}
+
+// A folder of the shipped scans 0-5 with scan 3 replaced by an empty one, and its time stamps.
+fs::path scansWithAnEmptyOne(const TempDir& dir, const std::vector<double>& times) {
+  const fs::path folder = dir / "scans";
+  fs::create_directories(folder);
+  for (int i = 0; i < 6; ++i) {
+    const std::string name = "full" + std::to_string(i) + ".pcd";
+    if (i == 3)
+      ndtom::io::writePcdBinary((folder / name).string(), {});
+    else
+      fs::copy_file(kLidar + "/" + name, folder / name);
+  }
+  std::ofstream out(folder / "times.txt");
+  for (const double t : times) out << std::setprecision(17) << t << "\n";
+  return folder;
+}
+
+// An empty scan is lost and counted, never inserted; the run goes on and the next scans are
+// placed. Time going backwards stops the run, naming the scan.
+TEST(SlamEndToEnd, AnEmptyScanIsLostAndTimeGoingBackwardsIsAnError) {
+  TempDir dir;
+  const fs::path folder = scansWithAnEmptyOne(dir, {0, 0.5, 1, 1.5, 2, 2.5});
+  const std::string prefix = (dir / "run").string();
+  const ProgramRun run =
+      runExecutable(kSlam, quoted(folder.string()) + " -o " + quoted(prefix) + kMapOptions + "-q", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string json = readText(prefix + ".summary.json");
+  EXPECT_EQ(jsonNumber(json, "scans"), 6);
+  EXPECT_EQ(jsonNumber(json, "lost"), 1);
+  EXPECT_NE(json.find("no finite point"), std::string::npos);
+  EXPECT_EQ(lineCount(readText(prefix + ".tum")), 6u);
+
+  TempDir dir2;
+  const fs::path backwards = scansWithAnEmptyOne(dir2, {0, 0.5, 1, 0.7, 2, 2.5});
+  const ProgramRun bad = runExecutable(
+      kSlam, quoted(backwards.string()) + " -o " + quoted((dir2 / "x").string()) + kMapOptions, dir2);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("full3.pcd"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("time goes backwards"), std::string::npos) << bad.err;
+  EXPECT_TRUE(outputsOf(dir2, "x").empty());
+}
+
+// A rawlog without range data (only odometry) has nothing to map: a clear error.
+TEST(SlamEndToEnd, ARawlogWithoutRangeDataIsAClearError) {
+  TempDir dir;
+  const std::string rawlog = std::string(MRPT_DATASETS) + "/RO-SLAM_demo.rawlog";
+  if (!fs::exists(rawlog)) GTEST_SKIP() << rawlog << " absent";
+  const ProgramRun run =
+      runExecutable(kSlam, quoted(rawlog) + " -o " + quoted((dir / "x").string()), dir);
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("no scans"), std::string::npos) << run.err;
 }
