@@ -22,6 +22,12 @@ inline mrpt::poses::CPose3D toPose(const Eigen::Isometry3d& t) {
   return mrpt::poses::CPose3D(m);
 }
 
+inline Eigen::Isometry3d toIsometry(const mrpt::poses::CPose3D& pose) {
+  Eigen::Isometry3d t;
+  t.matrix() = pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen();
+  return t;
+}
+
 /// Scan `i` in its sensor frame, without non-finite points and those within 0.5 m of the
 /// sensor (the scanning platform).
 inline mrpt::maps::CSimplePointsMap::Ptr balmScan(int i) {
