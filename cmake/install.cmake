@@ -42,7 +42,7 @@ install(FILES ${PROJECT_BINARY_DIR}/ndtomConfig.cmake ${PROJECT_BINARY_DIR}/ndto
 
 # The user-facing programs. Not ndtom-microbench: a developer's tool that reads the test data
 # from the source tree by a compiled-in path, and would add Google Benchmark to the package.
-foreach(program ndtom-map ndtom-map-mpi ndtom-localize ndtom-rawlog-from-pcd ndtom-eval ndtom-bench ndtom-regbench
+foreach(program ndtom-map ndtom-map-mpi ndtom-localize ndtom-slam ndtom-rawlog-from-pcd ndtom-eval ndtom-bench ndtom-regbench
     ndtom-worldgen)
   if(TARGET ${program})
     install(TARGETS ${program} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

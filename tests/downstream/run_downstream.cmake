@@ -18,7 +18,7 @@ set(prefix ${WORK_DIR}/prefix)
 file(REMOVE_RECURSE ${WORK_DIR})
 run_expect(0 ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 
-foreach(file bin/ndtom-map share/ndtom/mrpt/observations2map_ndtom.ini
+foreach(file bin/ndtom-map bin/ndtom-slam share/ndtom/mrpt/observations2map_ndtom.ini
         share/ndtom/data/tum-fr2-pioneer-slam2/associations.txt)
   if(NOT EXISTS ${prefix}/${file})
     message(FATAL_ERROR "not installed: ${file}")
@@ -26,6 +26,7 @@ foreach(file bin/ndtom-map share/ndtom/mrpt/observations2map_ndtom.ini
 endforeach()
 # RPATH $ORIGIN/../lib: runs from the prefix without LD_LIBRARY_PATH.
 run_expect(0 ${prefix}/bin/ndtom-map --help)
+run_expect(0 ${prefix}/bin/ndtom-slam --help)
 
 set(configure_args -G ${GENERATOR} -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=${CXX}
     -DCMAKE_PREFIX_PATH=${prefix})
