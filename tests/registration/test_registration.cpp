@@ -193,6 +193,34 @@ TEST(Registration, PlanarChangesOnlyXYAndYaw) {
   EXPECT_GT(r.covariance(5, 5), 0);
 }
 
+// The complement: x, y and yaw as guessed (right), z, roll and pitch found.
+TEST(Registration, LevelOnlyChangesOnlyZRollAndPitch) {
+  const RealCase& c = realCase();
+  const Isometry3d& truth = c.poses[RealCase::kLeftOut];
+  RegistrationOptions o;
+  o.level_only = true;
+  NdtRegistration registration(o);
+  Isometry3d guess = truth;
+  guess.translation().z() += 0.3;
+  guess.linear() = Eigen::AngleAxisd(2 * kDeg, Vector3d(1, 1, 0).normalized()) * truth.linear();
+  const RegistrationResult r = registration.align(c.map, c.scan, guess);
+  EXPECT_TRUE(r.converged) << r.failure;
+  EXPECT_LT(translationError(r.pose, truth), 0.02);
+  EXPECT_LT(rotationErrorDeg(r.pose, truth), 0.2);
+  EXPECT_EQ(r.pose.translation().head<2>(), guess.translation().head<2>());
+  // The heading, the sensor's x axis projected on the ground, turned not at all.
+  const Vector3d heading = r.pose.linear().col(0), guessed = guess.linear().col(0);
+  EXPECT_NEAR(std::atan2(heading.y(), heading.x()), std::atan2(guessed.y(), guessed.x()), 1e-3);
+  for (int k : {0, 1, 5}) {
+    EXPECT_EQ(r.covariance.row(k).norm(), 0);
+    EXPECT_EQ(r.covariance.col(k).norm(), 0);
+  }
+  EXPECT_GT(r.covariance(2, 2), 0);
+  RegistrationOptions both = o;
+  both.planar = true;
+  EXPECT_THROW(NdtRegistration{both}, std::invalid_argument);
+}
+
 TEST(Registration, SameResultForOneAndTwoThreads) {
   const RealCase& c = realCase();
   Isometry3d guess = c.poses[RealCase::kLeftOut];

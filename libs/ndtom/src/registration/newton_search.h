@@ -21,8 +21,9 @@ struct NewtonSettings {
 };
 
 /// The parameters RegistrationOptions::planar leaves free: x, y and the rotation about z.
-inline std::array<bool, 6> freeParameters(bool planar) {
+inline std::array<bool, 6> freeParameters(bool planar, bool level_only = false) {
   if (planar) return {true, true, false, false, false, true};
+  if (level_only) return {false, false, true, true, true, false};
   return {true, true, true, true, true, true};
 }
 

@@ -90,7 +90,7 @@ LevelReport registerLevel(const registration::NdtObjective& objective, size_t sc
   settings.translation_epsilon = o.translation_epsilon * coarseness * coarseness;
   settings.rotation_epsilon = o.rotation_epsilon * coarseness * coarseness;
   settings.max_translation_step = resolution;
-  settings.free = registration::freeParameters(o.planar);
+  settings.free = registration::freeParameters(o.planar, o.level_only);
   LevelReport report;
   report.resolution = resolution;
   report.scan_items = scan_items;
@@ -149,6 +149,8 @@ void validate(const RegistrationOptions& o) {
     failOption("min_judged_fraction", o.min_judged_fraction, "must be in [0, 1]");
   if (!(o.max_free_fraction >= 0 && o.max_free_fraction <= 1))
     failOption("max_free_fraction", o.max_free_fraction, "must be in [0, 1]");
+  if (o.planar && o.level_only)
+    throw std::invalid_argument("planar and level_only: at most one of them (they fix what the other frees)");
   if (!(o.threads >= 1 && o.threads <= ScanOptions::kMaxThreads))
     failOption("threads", o.threads, "must be in [1, 256]");
 }
@@ -261,7 +263,8 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   result.matched_fraction =
       result.judged_fraction > 0 ? std::min(1.0, last.matched_fraction / result.judged_fraction)
                                  : 0.0;
-  const PoseCovariance covariance = poseCovariance(objectives.back(), result.pose, o.planar);
+  const PoseCovariance covariance =
+      poseCovariance(objectives.back(), result.pose, freeParameters(o.planar, o.level_only));
   result.covariance = covariance.covariance;
   result.failure = verdict(result, covariance.constrained, o);
   result.converged = result.failure.empty();

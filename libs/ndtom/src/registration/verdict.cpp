@@ -54,8 +54,7 @@ SpaceFractions spaceFractions(const NdtMap& map, const NdtObjective& finest, con
 }
 
 PoseCovariance poseCovariance(const NdtObjective& finest, const Eigen::Isometry3d& pose,
-                              bool planar) {
-  const std::array<bool, 6> free = freeParameters(planar);
+                              const std::array<bool, 6>& free) {
   const PoseInformation info = finest.information(pose);
   // (Fixed parameters get a curvature on the scale of the others: out of the rank test.)
   const double typical = std::max(info.information.diagonal().maxCoeff(), 1e-300);

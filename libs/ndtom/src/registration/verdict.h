@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <string>
 
 #include "ndtom/map/ndt_map.h"
@@ -30,7 +31,7 @@ struct PoseCovariance {
   bool constrained = false;
 };
 PoseCovariance poseCovariance(const NdtObjective& finest, const Eigen::Isometry3d& pose,
-                              bool planar);
+                              const std::array<bool, 6>& free);
 
 /// Why the registration failed ("" if it did not): the finest level did not converge, too
 /// little of the scan could be judged or matched, too much lies in open free space, or the

@@ -75,6 +75,10 @@ struct RegistrationOptions {
   /// Only x, y and the rotation about the map's z axis change; z, roll and pitch stay as
   /// guessed: for 2D scans and robots on flat ground (Default: false).
   bool planar = false;
+  /// Only z and the rotations about the map's x and y axes change; x, y and yaw stay as
+  /// guessed: levelling a pose on the ground (the online mapper's second pass, on every ground
+  /// point). Not with `planar` (Default: false).
+  bool level_only = false;
   /// Threads over points; the result is the same for any count (Default: 1).
   int threads = 1;
 };
