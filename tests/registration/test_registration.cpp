@@ -383,6 +383,33 @@ TEST(Registration, ScanSeeingTheMapInPartIsPlacedByWhatTheMapKnows) {
   }
 }
 
+// A sparse scan (a few points per square metre, as a 32-ring lidar's far surfaces) leaves most
+// occupied cells with too few points for a Gaussian. Registered against its own map at its
+// own pose, the points in those cells are not misses: the map cannot judge them.
+TEST(Registration, OccupiedCellsWithoutAGaussianDoNotJudge) {
+  MapOptions o;
+  o.resolution = 0.2;
+  NdtMap map(o);
+  const std::vector<Vector3d> world = room::sampleRoom(4000, 3, 0.0);
+  map.insertScan(world, room::kRoomSensor);
+  size_t thin = 0, occupied = 0;
+  map.forEachCell([&](const CellView& c) {
+    if (c.logodds <= 0) return;
+    ++occupied;
+    thin += !(c.stats && c.stats->hasGaussian());
+  });
+  ASSERT_GT(thin, occupied / 2);  // mostly cells of one or two points
+  const Isometry3d pose = poseOf(room::kRoomSensor, 0, Vector3d::UnitZ());
+  RegistrationOptions ro;
+  ro.max_points = 100000;
+  NdtRegistration registration(ro);
+  const RegistrationResult r = registration.align(map, inSensorFrame(world, pose), pose);
+  EXPECT_TRUE(r.converged) << r.failure;
+  EXPECT_LT(translationError(r.pose, pose), 0.05);
+  EXPECT_LT(r.judged_fraction, 0.6);
+  EXPECT_GT(r.matched_fraction, 0.6);
+}
+
 TEST(Registration, ScanPointsInOpenFreeSpaceFailTheVerdict) {
   // The room's map knows its inside is free. A scan of the room with points spread through
   // a 2 x 2 x 1 m volume in its middle (objects the map never had) still aligns; with 0.5 %
