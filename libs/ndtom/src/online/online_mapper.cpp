@@ -73,8 +73,7 @@ RegistrationOptions levelling(RegistrationOptions o, int threads) {
 
 struct OnlineMapper::Tracking {
   Tracking(const OnlineMapperOptions& o, const Eigen::Isometry3d& first_pose)
-      : first_pose(first_pose),
-        motion(first_pose),
+      : motion(first_pose),
         search(fittedToLevels(o.search, o.registration.level_factors),
                withThreads(o.registration, o.threads)),
         leveller(levelling(o.registration, o.threads)) {}
@@ -138,13 +137,15 @@ struct OnlineMapper::Tracking {
     step.pose = step.registration.pose;
   }
 
-  Eigen::Isometry3d first_pose;
-  ConstantVelocity motion;
+  ConstantVelocity motion;  // the first pose until the first scan is committed
   GlobalLocalizer search;  // holds the registration (and its pyramid of the target)
   NdtRegistration leveller;
   online::RegistrationTarget target;
   size_t located = 0, committed = 0;
   std::optional<double> last_time;
+  /// Whether the map has held a Gaussian: counting them walks the whole map, so they are
+  /// counted only until there is one.
+  bool registering = false;
 };
 
 OnlineMapper::OnlineMapper(const OnlineMapperOptions& options, const Eigen::Isometry3d& first_pose)
@@ -180,8 +181,9 @@ OnlineStep OnlineMapper::locate(const std::vector<Eigen::Vector3d>& points, doub
   step.time = time;
   // Until the map holds a Gaussian there is nothing to register against: the scan is placed
   // where it is predicted (the first pose, for the first scan).
-  if (map_.numGaussians() == 0) {
-    step.prediction = t.committed == 0 ? t.first_pose : t.motion.predict(time);
+  if (!t.registering) t.registering = map_.numGaussians() > 0;
+  if (!t.registering) {
+    step.prediction = t.motion.predict(time);
     step.pose = step.prediction;
     step.outcome = OnlineOutcome::First;
     step.found_by = t.committed == 0 ? "first scan" : "map still empty";
@@ -213,7 +215,6 @@ void OnlineMapper::commit(OnlineStep& step, const std::vector<Eigen::Vector3d>& 
     step.inserted = true;
     step.insert_seconds = secondsSince(start);
   }
-  if (t.committed == 0) t.motion = ConstantVelocity(step.pose);
   t.motion.update(step.pose, step.time);
   t.last_time = step.time;
   ++t.committed;
