@@ -39,12 +39,8 @@ const ndtom::NdtMap& LiveMap::targetAround(const ndtom::NdtMap& prior,
   ++scans_since_cut_;
   const bool changed = target_prior_revision_ != prior.revision() ||
                        target_live_revision_ != live_.revision();
-  const bool stale =
-      !cut_at_ || scans_since_cut_ >= settings_.refresh_scans ||
-      (sensor.translation() - cut_at_->translation()).norm() >= settings_.refresh_distance ||
-      Eigen::AngleAxisd(cut_at_->linear().transpose() * sensor.linear()).angle() * 180 / M_PI >=
-          settings_.refresh_angle_deg;
-  if (cut_at_ && !(changed && stale)) return target_;
+  if (cut_at_ && !(changed && settings_.refresh.due(*cut_at_, sensor, scans_since_cut_)))
+    return target_;
   const double block_edge = ndtom::kBlockEdge * prior.options().resolution;
   const Eigen::Vector3d centre = sensor.translation();
   const auto near = [&](const ndtom::CellIndex& b) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ndtom/map/ndt_map.h"
+#include "ndtom/online/region_refresh.h"
 
 namespace ndtom::localizer {
 
@@ -19,10 +20,7 @@ struct LiveMapSettings {
   /// Keep the blocks the live map drops behind the robot, for extended() (--save-map).
   bool keep_all = false;
   double radius = 50;  ///< m: the target's region around the robot, and what the live map keeps
-  /// The target is cut again after this much travel (m), turn (degrees) or scans.
-  double refresh_distance = 2;
-  double refresh_angle_deg = 10;
-  int refresh_scans = 10;
+  ndtom::RegionRefresh refresh;  ///< when the target is cut again (2 m, 10°, 10 scans)
 };
 
 class LiveMap {

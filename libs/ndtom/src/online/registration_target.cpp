@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "ndtom/map/block_grid.h"
+#include "ndtom/online/region_refresh.h"
 #include "ndtom/scale/block_moves.h"
 
 namespace ndtom::online {
@@ -19,22 +20,15 @@ double distanceToBlock(const Eigen::Vector3d& p, const CellIndex& b, double bloc
   return std::sqrt(squared);
 }
 
-double turnDegrees(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180 / M_PI;
-}
-
 }  // namespace
 
 bool RegistrationTarget::update(const NdtMap& map, const Eigen::Isometry3d& sensor,
                                 const OnlineMapperOptions& o) {
   ++scans_since_cut_;
   if (cut_from_revision_ == map.revision()) return false;  // nothing new to cut
-  const bool stale =
-      cut_from_revision_ == 0 || scans_since_cut_ >= o.target_max_scans ||
-      (o.target_refresh_distance > 0 &&
-       (sensor.translation() - cut_at_.translation()).norm() >= o.target_refresh_distance) ||
-      (o.target_refresh_angle_deg > 0 && turnDegrees(cut_at_, sensor) >= o.target_refresh_angle_deg);
-  if (!stale) return false;
+  const RegionRefresh refresh{o.target_refresh_distance, o.target_refresh_angle_deg,
+                              o.target_max_scans};
+  if (cut_from_revision_ != 0 && !refresh.due(cut_at_, sensor, scans_since_cut_)) return false;
   const double block_edge = kBlockEdge * map.options().resolution;
   const Eigen::Vector3d centre = sensor.translation();
   const NdtMap region = copyBlocks(map, [&](const CellIndex& b) {
