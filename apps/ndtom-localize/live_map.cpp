@@ -1,7 +1,6 @@
 #include "live_map.h"
 
 #include <cmath>
-#include <unordered_set>
 
 #include "ndtom/map/block_grid.h"
 #include "ndtom/scale/block_moves.h"
@@ -29,6 +28,17 @@ void addUnknownCells(ndtom::NdtMap& into, const ndtom::NdtMap& from) {
   into.shrinkToFit();
 }
 
+// `into` gains the cells of `from` it does not know, and those where `from` has a Gaussian
+// and it has none: where both hold a Gaussian, `into`'s wins.
+void addCellsThePriorLacks(ndtom::NdtMap& into, const ndtom::NdtMap& from) {
+  from.forEachCellOrdered([&](const ndtom::CellView& c) {
+    const auto mine = into.cell(c.index);
+    const bool gaussian = c.stats && c.stats->hasGaussian();
+    if (mine && !(gaussian && !(mine->stats && mine->stats->hasGaussian()))) return;
+    into.setCell(c.index, c.logodds, c.stats ? *c.stats : ndtom::CellStats{});
+  });
+}
+
 }  // namespace
 
 LiveMap::LiveMap(const ndtom::MapOptions& options, const LiveMapSettings& settings)
@@ -47,13 +57,7 @@ const ndtom::NdtMap& LiveMap::targetAround(const ndtom::NdtMap& prior,
     return blockWithin(b, centre, settings_.radius, block_edge);
   };
   target_ = ndtom::copyBlocks(prior, near);
-  // Only blocks the prior map has never entered: inside its blocks a few fresh scans add
-  // cells shaped by their own rings, which would hold the next scan where the last one was.
-  std::unordered_set<ndtom::CellIndex, ndtom::CellIndexHash> prior_blocks;
-  target_.forEachBlock([&](const ndtom::CellIndex& b) { prior_blocks.insert(b); });
-  absorbBlocks(target_, ndtom::copyBlocks(live_, [&](const ndtom::CellIndex& b) {
-                 return near(b) && !prior_blocks.count(b);
-               }));
+  addCellsThePriorLacks(target_, ndtom::copyBlocks(live_, near));
   target_prior_revision_ = prior.revision();
   target_live_revision_ = live_.revision();
   cut_at_ = sensor;

@@ -1,8 +1,9 @@
 // Tracking that does not stop where the prior map ends: the scans localized so far, inserted
 // at their poses into a map of their own beside the prior one (same options). Scans are
-// registered against the prior map's region around the robot with the live map's blocks
-// added where the prior map has none: where both know a place the prior's wins, so when the
-// prior map comes back into view the scans re-anchor to it. The prior map is never changed.
+// registered against the prior map's region around the robot with the live map's cells added
+// where the prior map has none, or has no Gaussian where the live map has one: where both
+// hold a Gaussian the prior's wins, so when the prior map comes back into view the scans
+// re-anchor to it. The prior map is never changed.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -28,7 +29,7 @@ class LiveMap {
   LiveMap(const ndtom::MapOptions& options, const LiveMapSettings& settings);
 
   /// What to register against around `sensor`: the prior map's region with the live map's
-  /// blocks where the prior has none; the same object until the policy cuts a new one.
+  /// cells the prior lacks (above); the same object until the policy cuts a new one.
   const ndtom::NdtMap& targetAround(const ndtom::NdtMap& prior, const Eigen::Isometry3d& sensor);
   /// A placed scan, points in the map frame. Blocks farther than the radius from the sensor
   /// (x, y) are dropped, so the live map stays a region. Throws like NdtMap::insertScan.

@@ -48,9 +48,19 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
       {"--recovery-radius",
        {true,
         [](O& o, const std::string& v) {
-          o.tracking.recovery_radius = parseReal("--recovery-radius", v);
-          if (!(o.tracking.recovery_radius >= 0 && o.tracking.recovery_radius <= 100))
+          o.tracking.placement.recovery_radius = parseReal("--recovery-radius", v);
+          if (!(o.tracking.placement.recovery_radius >= 0 && o.tracking.placement.recovery_radius <= 100))
             throw UsageError("--recovery-radius = " + v + ": must be in [0, 100] m");
+        }}},
+      {"--ground-thinning",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.placement.ground_thinning = int(parseInteger("--ground-thinning", v, 1, 1000));
+        }}},
+      {"--weak-sigma",
+       {true,
+        [](O& o, const std::string& v) {
+          o.tracking.placement.weak_direction_sigma = parseReal("--weak-sigma", v, /*allow_infinity=*/true);
         }}},
       {"--region-radius",
        {true,
@@ -62,12 +72,12 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
       {"--search-step",
        {true,
         [](O& o, const std::string& v) {
-          o.tracking.global.position_step = parseReal("--search-step", v);
+          o.tracking.placement.search.position_step = parseReal("--search-step", v);
         }}},
       {"--search-yaw-step",
        {true,
         [](O& o, const std::string& v) {
-          o.tracking.global.yaw_step_deg = parseReal("--search-yaw-step", v);
+          o.tracking.placement.search.yaw_step_deg = parseReal("--search-yaw-step", v);
         }}},
       {"--reference", {true, [](O& o, const std::string& v) { o.reference_file = v; }}},
       {"--reference-format",
@@ -76,54 +86,54 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
        {true,
         [](O& o, const std::string& v) {
           try {
-            o.tracking.registration.method = ndtom::registrationMethodFromString(v);
+            o.tracking.placement.registration.method = ndtom::registrationMethodFromString(v);
           } catch (const std::invalid_argument&) {
             throw UsageError("--method: expected p2d or d2d, got '" + v + "'");
           }
         }}},
-      {"--levels", {true, [](O& o, const std::string& v) { o.tracking.registration.level_factors = apps::parseLevelFactors("--levels", v); }}},
+      {"--levels", {true, [](O& o, const std::string& v) { o.tracking.placement.registration.level_factors = apps::parseLevelFactors("--levels", v); }}},
       {"--min-range",
-       {true, [](O& o, const std::string& v) { o.tracking.registration.min_range = parseReal("--min-range", v); }}},
+       {true, [](O& o, const std::string& v) { o.tracking.placement.registration.min_range = parseReal("--min-range", v); }}},
       {"--max-range",
        {true,
         [](O& o, const std::string& v) {
-          o.tracking.registration.max_range = parseReal("--max-range", v, /*allow_infinity=*/true);
+          o.tracking.placement.registration.max_range = parseReal("--max-range", v, /*allow_infinity=*/true);
         }}},
       {"--max-points",
        {true,
         [](O& o, const std::string& v) {
-          o.tracking.registration.max_points = size_t(parseInteger("--max-points", v, 10, 100000000));
+          o.tracking.placement.registration.max_points = size_t(parseInteger("--max-points", v, 10, 100000000));
         }}},
       {"--max-iterations",
        {true,
         [](O& o, const std::string& v) {
-          o.tracking.registration.max_iterations = int(parseInteger("--max-iterations", v, 1, 1000));
+          o.tracking.placement.registration.max_iterations = int(parseInteger("--max-iterations", v, 1, 1000));
         }}},
       {"--outlier-ratio",
        {true,
         [](O& o, const std::string& v) {
-          o.tracking.registration.outlier_ratio = parseReal("--outlier-ratio", v);
+          o.tracking.placement.registration.outlier_ratio = parseReal("--outlier-ratio", v);
         }}},
       {"--min-matched-fraction",
        {true,
         [](O& o, const std::string& v) {
-          o.tracking.registration.min_matched_fraction = parseReal("--min-matched-fraction", v);
+          o.tracking.placement.registration.min_matched_fraction = parseReal("--min-matched-fraction", v);
         }}},
       {"--min-judged-fraction",
        {true,
         [](O& o, const std::string& v) {
-          o.tracking.registration.min_judged_fraction = parseReal("--min-judged-fraction", v);
+          o.tracking.placement.registration.min_judged_fraction = parseReal("--min-judged-fraction", v);
         }}},
       {"--max-free-fraction",
        {true,
         [](O& o, const std::string& v) {
-          o.tracking.registration.max_free_fraction = parseReal("--max-free-fraction", v);
+          o.tracking.placement.registration.max_free_fraction = parseReal("--max-free-fraction", v);
         }}},
-      {"--planar", {false, [](O& o, const std::string&) { o.tracking.registration.planar = true; }}},
+      {"--planar", {false, [](O& o, const std::string&) { o.tracking.placement.registration.planar = true; }}},
       {"--threads",
        {true,
         [](O& o, const std::string& v) {
-          o.tracking.registration.threads = int(parseInteger("--threads", v, 1, 256));
+          o.tracking.placement.registration.threads = int(parseInteger("--threads", v, 1, 256));
         }}},
       {"--no-pictures", {false, [](O& o, const std::string&) { o.pictures = false; }}},
       {"--live-map",
@@ -168,8 +178,7 @@ void checkComplete(const LocalizeOptions& o) {
   if (!o.reference_file.empty() && !std::filesystem::is_regular_file(o.reference_file, ec))
     throw UsageError("--reference " + o.reference_file + ": no such file");
   try {
-    ndtom::validate(o.tracking.registration);
-    ndtom::validate(o.tracking.global);
+    ndtom::validate(o.tracking.placement);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
@@ -192,13 +201,13 @@ Eigen::Isometry3d parsePose(const std::string& option, const std::string& text) 
 
 LocalizeOptions parseLocalizeOptions(int argc, char** argv) {
   LocalizeOptions o;
-  o.tracking.registration.threads =
+  o.tracking.placement.registration.threads =
       int(std::max(1u, std::min(256u, std::thread::hardware_concurrency())));
   const std::vector<std::string> positional = apps::applyArguments(argc, argv, optionTable(), o);
   if (positional.size() > 2) throw UsageError("more than MAP and INPUT: '" + positional[2] + "'");
   if (positional.size() > 0) o.map_path = positional[0];
   if (positional.size() > 1) o.input = positional[1];
-  o.tracking.global = ndtom::fittedToLevels(o.tracking.global, o.tracking.registration.level_factors);
+  o.tracking.placement.search = ndtom::fittedToLevels(o.tracking.placement.search, o.tracking.placement.registration.level_factors);
   if (!o.help) checkComplete(o);
   return o;
 }
@@ -230,6 +239,11 @@ std::string helpText() {
       "  --global-every-scan       no tracking: search every scan in the whole map\n"
       "  --recovery-radius M       the search around the prediction: x, y within M m (4) and\n"
       "                            yaw within 60 degrees\n"
+      "  --ground-thinning K       one in K points on the scan's ground plane registers (100);\n"
+      "                            on flat ground every ring point holds a moving lidar\n"
+      "                            where a map scan's rings lie\n"
+      "  --weak-sigma M            directions the scene constrains worse than M (std. dev.)\n"
+      "                            keep the prediction (0.1; inf: never)\n"
       "  --live-map on|off         keep a map of the localized scans beside the prior map and\n"
       "                            register against both (the prior's cells win where both\n"
       "                            have one): tracking goes on where the prior map ends (on)\n"

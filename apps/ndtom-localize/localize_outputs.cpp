@@ -45,6 +45,7 @@ void writeScan(apps::JsonWriter& j, const ScanRecord& r) {
   j.field("outcome", toString(r.outcome));
   j.field("found_by", r.found_by);
   j.field("registrations", r.registrations);
+  j.field("weak_directions", r.weak_directions);
   if (r.outcome == Outcome::Lost) j.field("failure", r.result.failure);
   if (const auto e = errorOf(r)) {
     j.field("error_m", e->translation);
@@ -121,7 +122,7 @@ std::string scansCsv(const TrackingResult& tracking) {
 std::string summaryJson(const LocalizeSummary& s) {
   const LocalizeOptions& o = *s.options;
   const TrackingResult& t = *s.tracking;
-  const ndtom::RegistrationOptions& ro = o.tracking.registration;
+  const ndtom::RegistrationOptions& ro = o.tracking.placement.registration;
   const std::vector<double> seconds = scanSeconds(t);
   apps::JsonWriter j;
   j.beginObject();
@@ -157,6 +158,10 @@ std::string summaryJson(const LocalizeSummary& s) {
   j.field("max_free_fraction", ro.max_free_fraction);
   j.field("planar", ro.planar);
   j.field("threads", ro.threads);
+  j.field("recovery_radius", o.tracking.placement.recovery_radius);
+  j.field("recovery_yaw_deg", o.tracking.placement.recovery_yaw_deg);
+  j.field("ground_thinning", o.tracking.placement.ground_thinning);
+  j.field("weak_direction_sigma", o.tracking.placement.weak_direction_sigma);
   j.endObject();
   j.field("initial_given", o.tracking.initial.has_value());
   j.field("relocalize_after", o.tracking.relocalize_after);

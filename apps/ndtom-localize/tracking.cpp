@@ -13,21 +13,24 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using PoseKind = apps::Scan::PoseKind;
 
-// The scan's pose from the first registration start that converges, or nothing.
-// Every attempt runs the whole pyramid: starting the prediction's registration on the fine
-// levels alone costs more, as the fine levels then iterate longer and more scans need the
-// retries (doc/benchmarks.md, "Measurements behind the code").
-struct Attempt {
-  std::string name;
-  Eigen::Isometry3d start;
-};
+Outcome outcomeOf(ndtom::PlacementOutcome outcome) {
+  switch (outcome) {
+    case ndtom::PlacementOutcome::Tracked:
+      return Outcome::Tracked;
+    case ndtom::PlacementOutcome::Recovered:
+      return Outcome::Recovered;
+    case ndtom::PlacementOutcome::Lost:
+      break;
+  }
+  return Outcome::Lost;
+}
 
 class Tracker {
  public:
   Tracker(const ndtom::NdtMap& map, const TrackingSettings& settings)
       : map_(map),
         settings_(settings),
-        global_(settings.global, settings.registration),
+        placer_(settings.placement),
         motion_(settings.initial.value_or(Eigen::Isometry3d::Identity())),
         localized_(settings.initial.has_value()) {
     if (settings.live.enabled) live_.emplace(map.options(), settings.live);
@@ -99,41 +102,25 @@ class Tracker {
   }
 
  private:
-  // `map`: the prior map, or with the live map's cells where the prior has none.
+  // `map`: the prior map, or with the live map's cells where the prior has none. Every
+  // attempt runs the whole pyramid: starting the prediction's registration on the fine levels
+  // alone costs more, as the fine levels then iterate longer and more scans need the retries
+  // (doc/benchmarks.md, "Measurements behind the code").
   void track(const ndtom::NdtMap& map, const std::vector<Eigen::Vector3d>& points,
              ScanRecord& record) {
-    const Eigen::Isometry3d prediction = *record.prediction;
-    for (const Attempt& a :
-         {Attempt{"prediction", prediction}, Attempt{"last pose", motion_.lastPose()}}) {
-      if (a.name != "prediction" && a.start.isApprox(prediction)) continue;  // nothing new
-      ++record.registrations;
-      try {
-        record.result = global_.registration().align(map, points, a.start);
-      } catch (const std::invalid_argument& e) {  // no usable point: nothing will place it
-        record.result = ndtom::RegistrationResult{};
-        record.result.failure = e.what();
-        return;
-      }
-      if (record.result.converged) {
-        accept(record, a.name == "prediction" ? Outcome::Tracked : Outcome::Recovered, a.name);
-        return;
-      }
-    }
-    const ndtom::GlobalLocalizationResult search = global_.searchAround(
-        map, points, prediction, settings_.recovery_radius, settings_.recovery_yaw_deg);
-    record.registrations += int(search.refined + search.fully_refined);
-    if (search.found) {
-      record.result = search.best;
-      accept(record, Outcome::Recovered, "local search");
-    } else {
-      record.result.failure += "; search around the prediction: " + search.failure;
-    }
+    ndtom::Placement placed = placer_.place(map, points, *record.prediction, motion_.lastPose());
+    record.outcome = outcomeOf(placed.outcome);
+    record.found_by = placed.found_by;
+    record.registrations += placed.registrations;
+    record.weak_directions = placed.weak_directions;
+    record.result = std::move(placed.registration);
+    if (record.outcome != Outcome::Lost) record.pose = placed.pose;
   }
 
   void relocalize(const std::vector<Eigen::Vector3d>& points, ScanRecord& record) {
     ndtom::GlobalLocalizationResult search;
     try {
-      search = global_.localize(map_, points);
+      search = placer_.localizer().localize(map_, points);
     } catch (const std::invalid_argument& e) {
       record.result.failure = e.what();
       return;
@@ -156,7 +143,7 @@ class Tracker {
 
   const ndtom::NdtMap& map_;
   const TrackingSettings& settings_;
-  ndtom::GlobalLocalizer global_;  // holds the registration (and its pyramid) for all uses
+  ndtom::ScanPlacer placer_;  // holds the registration (and its pyramid) for all uses
   ConstantVelocity motion_;
   std::optional<LiveMap> live_;
   std::optional<Eigen::Isometry3d> last_odometry_;

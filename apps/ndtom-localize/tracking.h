@@ -1,7 +1,7 @@
 // The localization loop: every scan of a source registered in the map. Each scan starts from
-// a prediction (the log's odometry where it has some, else constant velocity); a failed
-// registration is retried from the last pose, then by a search around the prediction; a
-// scan none of that places is lost. Without an initial pose, and after a run of lost scans
+// a prediction (the log's odometry where it has some, else constant velocity) and is placed
+// near it (ndtom::ScanPlacer: retries from the last pose, then a search around the
+// prediction); a scan none of that places is lost. Without an initial pose, and after a run of lost scans
 // if asked, the scan is searched for in the whole map (global localization).
 #pragma once
 
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "live_map.h"
-#include "ndtom/localization/global_localization.h"
+#include "ndtom/localization/scan_placer.h"
 #include "ndtom/registration/registration.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/scan_source.h"
@@ -20,13 +20,12 @@
 namespace ndtom::localizer {
 
 struct TrackingSettings {
-  ndtom::RegistrationOptions registration;
-  ndtom::GlobalSearchOptions global;
+  /// Registration, retries, the search around the prediction (4 m, ±60°), the rules against
+  /// sliding; its search grid serves the whole-map search too.
+  ndtom::PlacementOptions placement;
   std::optional<Eigen::Isometry3d> initial;  ///< none: global localization of the first scan
   int relocalize_after = 0;       ///< lost scans in a row before a global search; 0: never
   bool global_every_scan = false;  ///< no tracking: every scan searched for in the whole map
-  double recovery_radius = 4.0;   ///< m, of the search around the prediction
-  double recovery_yaw_deg = 60;   ///< ± around the prediction's yaw
   /// Called before each scan is localized with where the robot is predicted to be, or with
   /// nothing before a search of the whole map: a map held in part (RegionMap) loads there.
   std::function<void(const std::optional<Eigen::Vector3d>& around)> prepare_map;
@@ -46,6 +45,7 @@ struct ScanRecord {
   /// What found the pose: "prediction", "last pose", "local search", "global search" or "".
   std::string found_by;
   int registrations = 0;  ///< runs of the registration (a search counts its refinements)
+  int weak_directions = 0;  ///< translation directions that kept the prediction
   std::optional<Eigen::Isometry3d> prediction;  ///< none before the first pose is known
   ndtom::RegistrationResult result;             ///< of the registration that decided
   /// The pose kept: the registration's if it converged, else the prediction (if any).

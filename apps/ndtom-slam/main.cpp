@@ -50,7 +50,7 @@ int run(const SlamOptions& o) {
   ndtom::OnlineMapperOptions online = o.online;
   online.map = insertion.toMapOptions();
   online.threads = insertion.scan.threads;
-  online.registration.threads = insertion.scan.threads;
+  online.placement.registration.threads = insertion.scan.threads;
 
   apps::Progress progress(!m.quiet);
   SlamResult result = runOnline(*source, online, progress);

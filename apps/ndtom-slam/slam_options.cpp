@@ -24,18 +24,18 @@ const apps::OptionTable<SlamOptions>& optionTable() {
        {true,
         [](O& o, const std::string& v) {
           try {
-            o.online.registration.method = ndtom::registrationMethodFromString(v);
+            o.online.placement.registration.method = ndtom::registrationMethodFromString(v);
           } catch (const std::invalid_argument&) {
             throw UsageError("--method: expected p2d or d2d, got '" + v + "'");
           }
         }}},
       {"--levels",
-       {true, [](O& o, const std::string& v) { o.online.registration.level_factors = apps::parseLevelFactors("--levels", v); }}},
-      {"--planar", {false, [](O& o, const std::string&) { o.online.registration.planar = true; }}},
+       {true, [](O& o, const std::string& v) { o.online.placement.registration.level_factors = apps::parseLevelFactors("--levels", v); }}},
+      {"--planar", {false, [](O& o, const std::string&) { o.online.placement.registration.planar = true; }}},
       {"--max-points",
        {true,
         [](O& o, const std::string& v) {
-          o.online.registration.max_points = size_t(parseInteger("--max-points", v, 10, 100000000));
+          o.online.placement.registration.max_points = size_t(parseInteger("--max-points", v, 10, 100000000));
         }}},
       {"--target-radius",
        {true, [](O& o, const std::string& v) { o.online.target_radius = parseReal("--target-radius", v); }}},
@@ -55,26 +55,26 @@ const apps::OptionTable<SlamOptions>& optionTable() {
           o.online.target_max_scans = int(parseInteger("--target-refresh-scans", v, 1, 1000000));
         }}},
       {"--recovery-radius",
-       {true, [](O& o, const std::string& v) { o.online.recovery_radius = parseReal("--recovery-radius", v); }}},
+       {true, [](O& o, const std::string& v) { o.online.placement.recovery_radius = parseReal("--recovery-radius", v); }}},
       {"--recovery-yaw",
-       {true, [](O& o, const std::string& v) { o.online.recovery_yaw_deg = parseReal("--recovery-yaw", v); }}},
+       {true, [](O& o, const std::string& v) { o.online.placement.recovery_yaw_deg = parseReal("--recovery-yaw", v); }}},
       {"--ground-thinning",
        {true,
         [](O& o, const std::string& v) {
-          o.online.ground_thinning = int(parseInteger("--ground-thinning", v, 1, 1000));
+          o.online.placement.ground_thinning = int(parseInteger("--ground-thinning", v, 1, 1000));
         }}},
       {"--weak-sigma",
        {true,
-        [](O& o, const std::string& v) { o.online.weak_direction_sigma = parseReal("--weak-sigma", v); }}},
+        [](O& o, const std::string& v) { o.online.placement.weak_direction_sigma = parseReal("--weak-sigma", v); }}},
       {"--min-judged-fraction",
        {true,
         [](O& o, const std::string& v) {
-          o.online.registration.min_judged_fraction = parseReal("--min-judged-fraction", v);
+          o.online.placement.registration.min_judged_fraction = parseReal("--min-judged-fraction", v);
         }}},
       {"--min-matched-fraction",
        {true,
         [](O& o, const std::string& v) {
-          o.online.registration.min_matched_fraction = parseReal("--min-matched-fraction", v);
+          o.online.placement.registration.min_matched_fraction = parseReal("--min-matched-fraction", v);
         }}},
       {"--reference", {true, [](O& o, const std::string& v) { o.reference_file = v; }}},
   };
@@ -125,7 +125,7 @@ SlamOptions parseSlamOptions(int argc, char** argv) {
   if (!o.reference_file.empty() && !std::filesystem::is_regular_file(o.reference_file, ec))
     throw UsageError("--reference " + o.reference_file + ": no such file");
   try {
-    ndtom::validate(o.online.registration);
+    ndtom::validate(o.online.placement.registration);
     OnlineMapperOptions check = o.online;
     check.map = ndtom::MapOptions{};
     ndtom::validate(check);

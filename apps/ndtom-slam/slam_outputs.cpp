@@ -52,7 +52,8 @@ std::string trajectoryTum(const SlamResult& result) {
 
 std::string summaryJson(const SlamSummary& s) {
   const SlamResult& r = *s.result;
-  const ndtom::OnlineMapperOptions& o = s.options->online;
+  const ndtom::OnlineMapperOptions& online = s.options->online;
+  const ndtom::PlacementOptions& o = online.placement;
   apps::JsonWriter j;
   j.beginObject();
   j.field("program", "ndtom-slam");
@@ -67,11 +68,12 @@ std::string summaryJson(const SlamSummary& s) {
   j.field("max_points", o.registration.max_points);
   j.field("min_matched_fraction", o.registration.min_matched_fraction);
   j.field("min_judged_fraction", o.registration.min_judged_fraction);
-  j.field("target_radius", o.target_radius);
+  j.field("target_radius", online.target_radius);
   j.field("recovery_radius", o.recovery_radius);
   j.field("recovery_yaw_deg", o.recovery_yaw_deg);
   j.field("weak_direction_sigma", o.weak_direction_sigma);
-  j.field("threads", o.threads);
+  j.field("ground_thinning", o.ground_thinning);
+  j.field("threads", online.threads);
   j.endObject();
   j.field("prediction", r.odometry_used ? "odometry" : "constant velocity");
   j.field("scans", r.scans.size());

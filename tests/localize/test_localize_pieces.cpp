@@ -169,10 +169,11 @@ std::vector<Vector3d> wallScan(double x, double y0, double y1) {
 
 }  // namespace
 
-// The target is the prior map's region with the live map's blocks where the prior has none:
-// every prior cell as it is, live cells only in blocks the prior never entered. The extended
-// map is the prior map plus those, and blocks far behind the robot leave the live map.
-TEST(LiveMap, PriorBlocksWinAndLiveBlocksFillTheRest) {
+// The target is the prior map's region with the live map's cells where the prior has none,
+// or has no Gaussian where the live map has one: every prior Gaussian as it is. The extended
+// map is the prior map plus the live cells it lacks, and blocks far behind the robot leave
+// the live map.
+TEST(LiveMap, PriorGaussiansWinAndLiveCellsFillTheRest) {
   ndtom::MapOptions o;
   o.resolution = 0.2;
   ndtom::NdtMap prior(o);
@@ -182,24 +183,27 @@ TEST(LiveMap, PriorBlocksWinAndLiveBlocksFillTheRest) {
   settings.keep_all = true;
   LiveMap live(o, settings);
   live.insert(wallScan(10.02, -6, 12), Vector3d(5, 3, 1));  // overlaps the prior's wall
+  live.insert(wallScan(8, -8, -2), Vector3d(5, -5, 1));     // where the prior saw free space
   Isometry3d at = Isometry3d::Identity();
   at.translation() = Vector3d(5, 0, 1);
   const ndtom::NdtMap& target = live.targetAround(prior, at);
-  std::set<ndtom::CellIndex> prior_blocks;
-  prior.forEachBlock([&](const ndtom::CellIndex& b) { prior_blocks.insert(b); });
-  size_t from_live = 0;
+  const auto gaussian = [](const std::optional<ndtom::CellView>& c) {
+    return c && c->stats && c->stats->hasGaussian();
+  };
+  size_t from_live = 0, live_over_prior = 0;
   target.forEachCell([&](const ndtom::CellView& c) {
-    const auto p = prior.cell(c.index);
-    if (prior_blocks.count(ndtom::blockOf(c.index))) {
-      ASSERT_TRUE(p.has_value());  // a prior block holds the prior's cells only
+    const auto p = prior.cell(c.index), l = live.map().cell(c.index);
+    if (p && (gaussian(p) || !gaussian(l))) {  // the prior's, as it is
       EXPECT_EQ(c.logodds, p->logodds);
+      EXPECT_EQ(gaussian(c), gaussian(p));
       return;
     }
-    const auto l = live.map().cell(c.index);
-    ASSERT_TRUE(l.has_value());
+    ASSERT_TRUE(l.has_value());  // else the live map's
     EXPECT_EQ(c.logodds, l->logodds);
     ++from_live;
+    live_over_prior += p.has_value();
   });
+  EXPECT_GT(live_over_prior, 0u);  // a live Gaussian where the prior saw only free space
   EXPECT_GT(from_live, 100u);
   prior.forEachCell([&](const ndtom::CellView& c) { EXPECT_TRUE(target.cell(c.index)); });
   // Unchanged map, unchanged policy: the same target object, not cut again.

@@ -7,37 +7,18 @@
 #include <Eigen/Geometry>
 #include <iomanip>
 
-#include "city_route.h"
+#include "city_drive.h"
 #include "mapper/mapper_run.h"
 #include "ndtom/files/map_io.h"
 #include "ndtom/files/tiled_map_io.h"
-#include "ndtom_io/pcd_reader.h"
-#include "ndtom_io/pose_file.h"
-#include "simulated_lidar.h"
 #include "support/program_run.h"
 
 using namespace mapper_test;
 
 namespace {
 
-// The drive's scans in the layout ndtom-localize reads (the poses are the reference).
-const Eigen::Translation3d kRaise(0, 0, 0.2);
-
-void writeDrive(const ndtom::world::CityWorld& city, const ndtom::world::LidarModel& lidar,
-                const std::vector<Eigen::Isometry3d>& poses, const fs::path& folder) {
-  fs::create_directories(folder);
-  std::ofstream times(folder / "times.txt");
-  std::vector<Eigen::Isometry3d> raised;
-  for (size_t i = 0; i < poses.size(); ++i) {
-    char name[32];
-    std::snprintf(name, sizeof name, "scan%06zu.pcd", i);
-    ndtom::io::writePcdBinary((folder / name).string(),
-                              ndtom::world::simulateScan(city, lidar, poses[i], i));
-    raised.push_back(kRaise * poses[i]);
-    times << 0.5 * double(i) << "\n";
-  }
-  ndtom::io::writeKittiPoseFile((folder / "poses.txt").string(), raised);
-}
+using city_drive::kRaise;
+using city_drive::writeDrive;
 
 TEST(LocalizeRegion, TiledMapLoadedAroundTheRobotPlacesEveryScan) {
   TempDir dir;
@@ -49,9 +30,7 @@ TEST(LocalizeRegion, TiledMapLoadedAroundTheRobotPlacesEveryScan) {
   lidar.azimuth_steps = 360;
   lidar.max_range = 30;  // the region's radius must cover what the sensor sees
 
-  // The map: a first drive, a scan every 2 m, in memory, saved in tiles of 12.8 m. The
-  // ground (z = 0) would lie on a cell boundary, where grazing rays clear the cells that hold
-  // its points: the world is raised by half a cell, as any real ground is off the grid.
+  // The map: a first drive, a scan every 2 m, in memory, saved in tiles of 12.8 m.
   ndtom::world::RouteSettings route;
   route.length = 180;
   route.step = 2;
@@ -73,18 +52,14 @@ TEST(LocalizeRegion, TiledMapLoadedAroundTheRobotPlacesEveryScan) {
   lidar.seed = 2;
   const auto poses = ndtom::world::driveThrough(city, route);
   writeDrive(city, lidar, poses, dir / "drive");
-  const Eigen::Quaterniond q(poses[0].linear());
-  const Eigen::Vector3d start = kRaise * poses[0].translation();
-  std::ostringstream initial;
-  initial << std::setprecision(12) << start.x() << " " << start.y() << " " << start.z() << " " << q.x()
-          << " " << q.y() << " " << q.z() << " " << q.w();
+  const std::string initial = city_drive::initialPose(poses[0]);
   const std::string prefix = (dir / "loc").string();
   const auto localize = [&](const std::string& map_file, const std::string& out,
                             const std::string& extra) {
     const ProgramRun run = runExecutable(
         NDTOM_LOCALIZE_EXE,
         quoted(map_file) + " " + quoted((dir / "drive").string()) + " --initial '" +
-            initial.str() + "' --decimation 2 -q -o " + quoted(out) + " " + extra,
+            initial + "' --decimation 2 -q -o " + quoted(out) + " " + extra,
         dir);
     EXPECT_EQ(run.exit_code, 0) << run.err;
   };

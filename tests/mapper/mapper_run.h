@@ -2,6 +2,8 @@
 // stderr, and the few values a test reads back from the JSON summary.
 #pragma once
 
+#include <cstdlib>
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -46,7 +48,9 @@ class TempDir {
     fs::remove_all(path_);
     fs::create_directories(path_);
   }
-  ~TempDir() { fs::remove_all(path_); }
+  ~TempDir() {
+    if (!std::getenv("NDTOM_KEEP_TEST_FILES")) fs::remove_all(path_);  // kept to debug a test
+  }
   const fs::path& path() const { return path_; }
   fs::path operator/(const std::string& name) const { return path_ / name; }
 

@@ -14,8 +14,6 @@
 #include "ndtom_eval/trajectory_error.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
-#include "online/ground_thinning.h"
-#include "online/weak_directions.h"
 #include "support/map_equality.h"
 
 using namespace ndtom;
@@ -206,8 +204,8 @@ TEST(OnlineMapper, BadOptionsNameTheOption) {
   for (const auto& [change, name] :
        std::vector<std::pair<std::function<void(OnlineMapperOptions&)>, std::string>>{
            {[](OnlineMapperOptions& o) { o.target_radius = 0; }, "target_radius"},
-           {[](OnlineMapperOptions& o) { o.recovery_yaw_deg = 200; }, "recovery_yaw_deg"},
-           {[](OnlineMapperOptions& o) { o.weak_direction_sigma = -1; }, "weak_direction_sigma"},
+           {[](OnlineMapperOptions& o) { o.placement.recovery_yaw_deg = 200; }, "recovery_yaw_deg"},
+           {[](OnlineMapperOptions& o) { o.placement.weak_direction_sigma = -1; }, "weak_direction_sigma"},
            {[](OnlineMapperOptions& o) { o.threads = 0; }, "threads"},
            {[](OnlineMapperOptions& o) { o.map.resolution = -1; }, "resolution"}}) {
     OnlineMapperOptions o = options();
@@ -219,43 +217,4 @@ TEST(OnlineMapper, BadOptionsNameTheOption) {
       EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
     }
   }
-}
-
-// A flat floor 1.8 m below the sensor and a wall: one in K floor points is kept, every wall
-// point, in order.
-TEST(OnlineMapper, GroundThinningKeepsOneInKGroundPoints) {
-  std::vector<Vector3d> scan;
-  std::mt19937 rng(2);
-  std::uniform_real_distribution<double> u(-10, 10), n(-0.01, 0.01);
-  for (int i = 0; i < 5000; ++i) scan.emplace_back(u(rng), u(rng), -1.8 + n(rng));
-  for (int i = 0; i < 1000; ++i) scan.emplace_back(6 + n(rng), u(rng), -1.5 + 0.2 * std::abs(u(rng)));
-  const std::vector<Vector3d> thinned = online::thinGround(scan, 10);
-  size_t floor = 0, wall = 0;
-  for (const Vector3d& p : thinned) (p.z() < -1.7 ? floor : wall)++;
-  EXPECT_EQ(floor, 500u);
-  EXPECT_EQ(wall, 1000u);
-  EXPECT_EQ(online::thinGround(scan, 1).size(), scan.size());
-  // No ground (a scan of walls only): everything stays.
-  const std::vector<Vector3d> walls(scan.begin() + 5000, scan.end());
-  EXPECT_EQ(online::thinGround(walls, 10).size(), walls.size());
-}
-
-// A covariance loose along one direction (a corridor's axis): the pose keeps the prediction's
-// component there and the registration's across it.
-TEST(OnlineMapper, WeakDirectionsKeepThePrediction) {
-  const Vector3d axis = Vector3d(1, 1, 0).normalized();
-  Matrix6d covariance = Matrix6d::Identity() * 1e-6;
-  covariance.topLeftCorner<3, 3>() += 0.09 * axis * axis.transpose();  // σ 0.3 m along it
-  Isometry3d registered = Isometry3d::Identity(), predicted = Isometry3d::Identity();
-  registered.translation() = Vector3d(1.0, 0.2, 0.1);
-  predicted.translation() = Vector3d(0.0, 0.0, 0.0);
-  Isometry3d kept = registered;
-  EXPECT_EQ(online::keepPredictionAlongWeakDirections(kept, predicted, covariance, 0.1), 1);
-  const Vector3d d = kept.translation() - predicted.translation();
-  EXPECT_NEAR(d.dot(axis), 0.0, 1e-12);  // along the axis: the prediction
-  const Vector3d across = registered.translation() - axis * registered.translation().dot(axis);
-  EXPECT_LT((kept.translation() - across).norm(), 1e-12);  // across it: the registration
-  Isometry3d tight = registered;
-  EXPECT_EQ(online::keepPredictionAlongWeakDirections(tight, predicted, covariance, 0.5), 0);
-  EXPECT_TRUE(tight.isApprox(registered));
 }

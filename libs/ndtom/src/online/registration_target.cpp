@@ -34,7 +34,7 @@ bool RegistrationTarget::update(const NdtMap& map, const Eigen::Isometry3d& sens
   const NdtMap region = copyBlocks(map, [&](const CellIndex& b) {
     return distanceToBlock(centre, b, block_edge) <= o.target_radius;
   }, /*statistics_only=*/true);
-  pyramid_ = std::make_shared<const MapPyramid>(region, o.registration.level_factors, o.threads);
+  pyramid_ = std::make_shared<const MapPyramid>(region, o.placement.registration.level_factors, o.threads);
   cut_from_revision_ = map.revision();
   cut_at_ = sensor;
   scans_since_cut_ = 0;

@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "ndtom/localization/global_localization.h"
+#include "ndtom/localization/scan_placer.h"
 #include "ndtom/map/ndt_map.h"
 #include "ndtom/registration/registration.h"
 
@@ -29,17 +29,20 @@ namespace ndtom {
 
 struct OnlineMapperOptions {
   MapOptions map;  ///< the map built (resolution, occupancy, insertion, memory budget)
-  /// Registration, tuned for maps of a few scans. Its finest level is twice the map's cell
-  /// (levels 16 8 4 2): a sparse lidar's single scan leaves 0.2 m cells with Gaussians shaped
-  /// like its rings, which hold the next scan where the last one was (ndtom-worldgen's city:
-  /// every scan lost from the second on at 0.2 m; 99 of 100 tracked at 0.4 m; the BALM
-  /// sequence: 1.2 cm ATE either way). Its verdict asks a matched fraction of 0.25, not 0.4:
-  /// a scan after a sharp turn matches less of a young map (BALM scan 22: 0.37 at its pose).
-  RegistrationOptions registration = [] {
-    RegistrationOptions r;
-    r.level_factors = {16, 8, 4, 2};
-    r.min_matched_fraction = 0.25;
-    return r;
+  /// Registration, retries, recovery search and the rules against sliding, tuned for maps of
+  /// a few scans. Its finest level is twice the map's cell (levels 16 8 4 2): a sparse
+  /// lidar's single scan leaves 0.2 m cells with Gaussians shaped like its rings, which hold
+  /// the next scan where the last one was (ndtom-worldgen's city: every scan lost from the
+  /// second on at 0.2 m; 99 of 100 tracked at 0.4 m; the BALM sequence: 1.2 cm ATE either
+  /// way). Its verdict asks a matched fraction of 0.25, not 0.4: a scan after a sharp turn
+  /// matches less of a young map (BALM scan 22: 0.37 at its pose). The recovery search spans
+  /// 2 m, not 4: the map is the scans' own, the prediction is near.
+  PlacementOptions placement = [] {
+    PlacementOptions p;
+    p.registration.level_factors = {16, 8, 4, 2};
+    p.registration.min_matched_fraction = 0.25;
+    p.recovery_radius = 2.0;
+    return p;
   }();
   /// The registration target: the map's blocks within this distance (m) of the predicted
   /// sensor position (Default: 50 m: a lidar's map reaches 30-40 m around it).
@@ -52,21 +55,8 @@ struct OnlineMapperOptions {
   double target_refresh_distance = 2;
   double target_refresh_angle_deg = 10;
   int target_max_scans = 10;
-  /// When the registrations from the prediction and from the last pose fail: a search of
-  /// x, y within this radius (m) and yaw within ± this range (degrees) of the prediction,
-  /// on the grid of `search` (Default: 2 m, 60°, search's 2 m and 30° steps; its levels are
-  /// fitted to the registration's, fittedToLevels).
-  double recovery_radius = 2.0;
-  double recovery_yaw_deg = 60;
-  GlobalSearchOptions search;
-  /// Directions of the pose's translation whose standard deviation (from the registration's
-  /// covariance) exceeds this keep the prediction's component (Default: 0.1 m; inf: never).
-  double weak_direction_sigma = 0.1;
-  /// Of the scan points on its ground plane, one in this many take part in registration (all
-  /// of them are inserted): registered on every ground point, a lidar moving over flat ground
-  /// seems to stand still, its rings falling where the last scans' did (Default: 100; 1: all).
-  int ground_thinning = 100;
-  /// Threads of registration and insertion; the result is the same for any count (Default: 1).
+  /// Threads of registration and insertion (this, not placement.registration.threads); the
+  /// result is the same for any count (Default: 1).
   int threads = 1;
 };
 
@@ -81,7 +71,7 @@ struct OnlineStep {
   size_t index = 0;  ///< scans given to locate() before this one
   double time = 0;
   OnlineOutcome outcome = OnlineOutcome::Lost;
-  /// What placed it: "first scan", "prediction", "last pose", "search" or "" (lost).
+  /// What placed it: "first scan", "prediction", "last pose", "local search" or "" (lost).
   std::string found_by;
   Eigen::Isometry3d prediction = Eigen::Isometry3d::Identity();  ///< sensor -> map
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< kept: registered, or prediction

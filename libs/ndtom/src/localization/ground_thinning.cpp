@@ -1,10 +1,10 @@
-#include "online/ground_thinning.h"
+#include "localization/ground_thinning.h"
 
 #include <cmath>
 
 #include "ndtom/localization/global_localization.h"
 
-namespace ndtom::online {
+namespace ndtom::tracking {
 
 std::vector<Eigen::Vector3d> thinGround(const std::vector<Eigen::Vector3d>& points, int keep_every,
                                         double band) {
@@ -21,4 +21,4 @@ std::vector<Eigen::Vector3d> thinGround(const std::vector<Eigen::Vector3d>& poin
   return out;
 }
 
-}  // namespace ndtom::online
+}  // namespace ndtom::tracking

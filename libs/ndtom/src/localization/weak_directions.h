@@ -7,7 +7,7 @@
 
 #include "ndtom/registration/registration.h"
 
-namespace ndtom::online {
+namespace ndtom::tracking {
 
 /// `registered` with its translation's components along the directions whose standard
 /// deviation (from `covariance`, over δ = (v, ω), v in the map frame) exceeds `max_sigma`
@@ -16,4 +16,4 @@ int keepPredictionAlongWeakDirections(Eigen::Isometry3d& registered,
                                       const Eigen::Isometry3d& predicted,
                                       const Matrix6d& covariance, double max_sigma);
 
-}  // namespace ndtom::online
+}  // namespace ndtom::tracking

@@ -7,11 +7,11 @@
 #include <Eigen/Core>
 #include <vector>
 
-namespace ndtom::online {
+namespace ndtom::tracking {
 
 /// `points` (sensor frame) with only one in `keep_every` of those within `band` (m) of the
 /// scan's ground plane (findGround); all of them where no ground is found or keep_every is 1.
 std::vector<Eigen::Vector3d> thinGround(const std::vector<Eigen::Vector3d>& points, int keep_every,
                                         double band = 0.15);
 
-}  // namespace ndtom::online
+}  // namespace ndtom::tracking

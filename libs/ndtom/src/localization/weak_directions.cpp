@@ -1,8 +1,8 @@
-#include "online/weak_directions.h"
+#include "localization/weak_directions.h"
 
 #include <Eigen/Eigenvalues>
 
-namespace ndtom::online {
+namespace ndtom::tracking {
 
 int keepPredictionAlongWeakDirections(Eigen::Isometry3d& registered,
                                       const Eigen::Isometry3d& predicted,
@@ -21,4 +21,4 @@ int keepPredictionAlongWeakDirections(Eigen::Isometry3d& registered,
   return weak;
 }
 
-}  // namespace ndtom::online
+}  // namespace ndtom::tracking
