@@ -29,7 +29,7 @@ std::vector<std::string> leftovers(const TempDir& dir) {
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(dir.path())) {
     const std::string name = e.path().filename().string();
-    if (name.find(".tmp-") != std::string::npos || name.find(".old-") != std::string::npos)
+    if (name.find(".ndtom-tmp-") != std::string::npos || name.find(".ndtom-old-") != std::string::npos)
       names.push_back(name);
   }
   return names;
@@ -51,7 +51,7 @@ TEST(OutputFiles, CommitIsAllOrNothing) {
   writeSet(prefix, "old");
   // The third output cannot be moved aside (its aside name is taken by a folder that is not
   // empty), after two were already replaced: those two are put back.
-  fs::create_directories(prefix + ".3Dscene.old-" + std::to_string(getpid()) + "/x");
+  fs::create_directories(prefix + ".3Dscene.ndtom-old-" + std::to_string(getpid()) + "/x");
   {
     OutputFiles out(prefix);
     for (const auto& s : kSuffixes) out.writeBytes("role", s, "new" + s);
@@ -65,7 +65,7 @@ TEST(OutputFiles, CommitIsAllOrNothing) {
     }
   }
   for (const auto& s : kSuffixes) EXPECT_EQ(readText(prefix + s), "old" + s) << s;
-  fs::remove_all(prefix + ".3Dscene.old-" + std::to_string(getpid()));
+  fs::remove_all(prefix + ".3Dscene.ndtom-old-" + std::to_string(getpid()));
   EXPECT_TRUE(leftovers(dir).empty()) << leftovers(dir).front();
 
   // An output replaced by a folder: refused before anything moves.
@@ -120,17 +120,39 @@ TEST(OutputFiles, NextRunCleansUpAfterAKilledOne) {
   const std::string prefix = (dir / "out").string();
   const std::string dead = std::to_string(deadPid());
   const std::string live = std::to_string(getppid());
-  std::ofstream(prefix + ".ndtom.tmp-" + dead) << "half";
-  std::ofstream(prefix + ".coarse2.ndtom.tmp-" + dead) << "half";
-  std::ofstream(prefix + ".top.png.old-" + dead) << "previous";  // out.top.png missing
-  std::ofstream(prefix + ".ndtom.old-" + dead) << "previous";    // out.ndtom present
+  std::ofstream(prefix + ".ndtom.ndtom-tmp-" + dead) << "half";
+  std::ofstream(prefix + ".coarse2.ndtom.ndtom-tmp-" + dead) << "half";
+  std::ofstream(prefix + ".top.png.ndtom-old-" + dead) << "previous";  // out.top.png missing
+  std::ofstream(prefix + ".ndtom.ndtom-old-" + dead) << "previous";    // out.ndtom present
   std::ofstream(prefix + ".ndtom") << "committed";
-  std::ofstream(prefix + ".3Dscene.tmp-" + live) << "someone else's";
-  std::ofstream(dir / ("other.ndtom.tmp-" + dead)) << "another prefix";
+  std::ofstream(prefix + ".3Dscene.ndtom-tmp-" + live) << "someone else's";
+  std::ofstream(dir / ("other.ndtom.ndtom-tmp-" + dead)) << "another prefix";
   { OutputFiles out(prefix); }
   std::vector<std::string> left = leftovers(dir);
   std::sort(left.begin(), left.end());
-  EXPECT_EQ(left, (std::vector<std::string>{"other.ndtom.tmp-" + dead, "out.3Dscene.tmp-" + live}));
+  EXPECT_EQ(left, (std::vector<std::string>{"other.ndtom.ndtom-tmp-" + dead,
+                                            "out.3Dscene.ndtom-tmp-" + live}));
   EXPECT_EQ(readText(prefix + ".top.png"), "previous");
   EXPECT_EQ(readText(prefix + ".ndtom"), "committed");
+}
+
+// The user's own files that look like leftovers ("keep/run.ndtom.old-20241203") are not this
+// program's: a run leaves them as they are, whatever number ends their name.
+TEST(OutputFiles, UsersFilesThatLookLikeLeftoversAreLeftAlone) {
+  TempDir dir;
+  const std::string prefix = (dir / "run").string();
+  const std::string dead = std::to_string(deadPid());
+  const std::vector<std::string> users = {".ndtom.old-20241203", ".3Dscene.old-424242",
+                                          ".summary.json.tmp-777777", ".mydata.old-31337",
+                                          ".ndtom.tmp-" + dead, ".top.png.old-" + dead};
+  for (const std::string& s : users) std::ofstream(prefix + s) << "mine" << s;
+  {
+    OutputFiles out(prefix);
+    out.writeBytes("map", ".ndtom", "new");
+    out.writeBytes("summary", ".summary.json", "{}");
+    out.commit();
+  }
+  for (const std::string& s : users) EXPECT_EQ(readText(prefix + s), "mine" + s) << s;
+  EXPECT_FALSE(fs::exists(prefix + ".mydata"));
+  EXPECT_EQ(readText(prefix + ".ndtom"), "new");
 }

@@ -3,6 +3,7 @@
 #include <signal.h>
 
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 #include "cases.h"
@@ -31,7 +32,7 @@ std::map<std::string, size_t> outputSet(const std::string& prefix) {
 std::string wholeSet(const std::map<std::string, size_t>& before,
                      const std::map<std::string, size_t>& after, bool new_allowed) {
   for (const auto& [name, bytes] : after)
-    if (name.find(".tmp-") != std::string::npos || name.find(".old-") != std::string::npos)
+    if (name.find(".ndtom-tmp-") != std::string::npos || name.find(".ndtom-old-") != std::string::npos)
       return "data loss: " + name + " left behind";
   size_t same = 0, changed = 0;
   for (const auto& [name, bytes] : before) {
@@ -110,6 +111,26 @@ std::vector<Case> outputCases(const Context& c) {
     };
     k.check = [out](const Outcome& o) {
       return o.exit_code == 0 ? wholeSet({}, outputSet(out), true) : "";
+    };
+  }
+  // The user's files beside the outputs, named like leftovers of a dead run: not ours.
+  {
+    Case& k = set.add();
+    k.name = "user's files named like leftovers";
+    k.expect = Expect::Accept;
+    const std::string out = c.work + "/lookalike" + std::to_string(id++) + "/run";
+    k.argv = c.mapper_args(c.tum, out, {"--max-scans", "2"});
+    const std::vector<std::string> names = {".ndtom.old-20241203", ".3Dscene.old-424242",
+                                            ".summary.json.tmp-777777", ".mydata.old-31337"};
+    k.setup = [out, names] {
+      fs::create_directories(fs::path(out).parent_path());
+      for (const std::string& n : names) std::ofstream(out + n) << "mine";
+      return uint64_t(1400000);
+    };
+    k.check = [out, names](const Outcome&) -> std::string {
+      for (const std::string& n : names)
+        if (!fs::exists(out + n)) return "data loss: the user's " + out + n + " is gone";
+      return "";
     };
   }
   // Writes that fail (a file-size limit, as a full disk): the message names the file.

@@ -48,7 +48,7 @@ bool saveFailsWithFileSizeLimit(const ndtom::NdtMap& map, const std::string& pat
 // Temporaries of `path` left by any process (the child has its own pid).
 int leftoverTemporaries(const std::string& path) {
   const std::filesystem::path p(path);
-  const std::string prefix = p.filename().string() + ".tmp-";
+  const std::string prefix = p.filename().string() + ".ndtom-tmp-";
   int n = 0;
   for (const auto& entry : std::filesystem::directory_iterator(p.parent_path()))
     n += entry.path().filename().string().rfind(prefix, 0) == 0;

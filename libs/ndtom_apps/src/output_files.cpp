@@ -62,13 +62,14 @@ void unwatchSignals() {
 
 // --- Names -----------------------------------------------------------------------------
 
-const std::string kTemporaryTag = ".tmp-", kAsideTag = ".old-";
+// Markers users do not write: the clean-up after dead runs touches only names with them.
+const std::string kTemporaryTag = ndtom::kTemporaryMarker, kAsideTag = ".ndtom-old-";
 
 std::string asidePathFor(const std::string& path) {
   return path + kAsideTag + std::to_string(::getpid());
 }
 
-// The pid at the end of `name` after `tag` ("map.ndtom.tmp-123" -> 123), or -1.
+// The pid at the end of `name` after `tag` ("map.ndtom.ndtom-tmp-123" -> 123), or -1.
 long pidAfter(const std::string& name, const std::string& tag) {
   const size_t at = name.rfind(tag);
   if (at == std::string::npos || at + tag.size() == name.size()) return -1;

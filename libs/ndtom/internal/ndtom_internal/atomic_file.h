@@ -13,7 +13,7 @@ using FileSink = std::function<void(const void* data, size_t size)>;
 /// Writes a file's content through the sink it is given.
 using FileFiller = std::function<void(const FileSink& write)>;
 
-/// Writes `path`.tmp-<pid>, flushes it to disk and renames it over `path`. On any failure the
+/// Writes `path`.ndtom-tmp-<pid>, flushes it to disk and renames it over `path`. On any failure the
 /// temporary is removed, `path` keeps its previous content, and std::runtime_error names it.
 void writeFileAtomically(const std::string& path, const void* data, size_t size);
 /// The same, the content written piece by piece by `fill` (no copy of the whole file).
@@ -31,7 +31,10 @@ void syncFile(const std::string& path);
 /// Renames `from` over `to` (same filesystem), throwing std::runtime_error on failure.
 void renameFile(const std::string& from, const std::string& to);
 
-/// The temporary name writeFileAtomically uses for `path`.
+/// What marks a temporary in its name. Clean-up after killed runs removes only names with a
+/// marker users do not write: "run.ndtom.tmp-20241203" may be someone's file.
+inline constexpr const char* kTemporaryMarker = ".ndtom-tmp-";
+/// The temporary name writeFileAtomically uses for `path`: `path` + marker + pid.
 std::string temporaryPathFor(const std::string& path);
 
 }  // namespace ndtom

@@ -50,7 +50,7 @@ void writeSynced(const std::string& path, const std::string& name, const FileFil
 }  // namespace
 
 std::string temporaryPathFor(const std::string& path) {
-  return path + ".tmp-" + std::to_string(::getpid());
+  return path + kTemporaryMarker + std::to_string(::getpid());
 }
 
 void renameFile(const std::string& from, const std::string& to) {

@@ -65,7 +65,7 @@ uint64_t encodedMapSize(const NdtMap& map);
 NdtMap decodeMap(const uint8_t* data, size_t size, const std::string& source = "buffer",
                  uint64_t memory_budget = defaultMemoryBudget());
 
-/// Atomic: writes `path`.tmp-<pid> and renames it over `path`, so an interrupted save leaves
+/// Atomic: writes `path`.ndtom-tmp-<pid> and renames it over `path`, so an interrupted save leaves
 /// the previous file intact. Throws std::runtime_error naming the path on failure.
 void saveMap(const NdtMap& map, const std::string& path);
 /// Throws MapFormatError (bad content), MemoryBudgetError (a file larger than the budget, or a
