@@ -71,10 +71,11 @@ void loadMap(const LocalizeOptions& o, LoadedMap& loaded) {
   loaded.load_seconds = ndtom::apps::secondsSince(start);
 }
 
-// The pose of a scan in --reference, if given and it has one (no error for a scan without).
+// The pose of a scan in --reference if it has one (no error for a scan without); none (an
+// empty function) without --reference.
 ReferenceLookup referenceLookup(const std::optional<ndtom::apps::TrajectoryPoses>& reference) {
+  if (!reference) return {};
   return [&reference](size_t index, double time) -> std::optional<Eigen::Isometry3d> {
-    if (!reference) return std::nullopt;
     try {
       return reference->poseFor(index, time);
     } catch (const std::exception&) {

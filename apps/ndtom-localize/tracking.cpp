@@ -194,10 +194,11 @@ TrackingResult track(const ndtom::NdtMap& map, apps::ScanSource& source,
     record.index = already_read + out.scans.size();
     record.name = scan->name;
     record.time = scan->time;
-    if (scan->pose_kind == PoseKind::Reference)
-      record.reference = scan->frame_pose;
-    else if (reference)
+    // --reference, where given, is the one asked for: it wins over the input's own poses.
+    if (reference)
       record.reference = reference(record.index, record.time);
+    else if (scan->pose_kind == PoseKind::Reference)
+      record.reference = scan->frame_pose;
     tracker.localize(*scan, record, out);
     record.seconds = apps::secondsSince(scan_start);
     record.map_bytes = map.memoryBytes();

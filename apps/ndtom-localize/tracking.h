@@ -78,8 +78,8 @@ using ReferenceLookup =
     std::function<std::optional<Eigen::Isometry3d>(size_t index, double time)>;
 
 /// Localizes every scan of `source` in `map` (`already_read` of them were taken before: left
-/// out, as --skip does). The reference is the input's own trajectory
-/// where it is one (Scan::PoseKind::Reference), else `reference` if given. Throws
+/// out, as --skip does). The reference is `reference` if given (not empty), else the input's
+/// own trajectory where it is one (Scan::PoseKind::Reference). Throws
 /// apps::InputError for unreadable data.
 TrackingResult track(const ndtom::NdtMap& map, apps::ScanSource& source,
                      const TrackingSettings& settings, const ReferenceLookup& reference,

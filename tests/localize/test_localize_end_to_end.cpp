@@ -183,6 +183,38 @@ TEST(LocalizeEndToEnd, WithoutAStartPoseTheFirstScanIsSearchedForAndErrorsReport
   EXPECT_NE(json.find("\"found_by\": \"global search\""), std::string::npos);
 }
 
+// The input has its own poses (poses.txt beside the scans) and --reference gives others,
+// 100 m away: the errors are against --reference, the one asked for.
+TEST(LocalizeEndToEnd, ReferenceFileWinsOverTheInputsOwnPoses) {
+  Fixture f;
+  const std::string moved = (f.dir / "moved.txt").string();
+  {
+    std::ifstream in(kLidar + "/poses.txt");
+    std::ofstream own(f.scans / "poses.txt"), out(moved);
+    std::string line;
+    for (int i = 0; std::getline(in, line); ++i) {
+      if (i < 5 || i > 9) continue;
+      own << line << "\n";
+      std::istringstream fields(line);
+      std::vector<double> v(12);
+      for (double& x : v) fields >> x;
+      v[3] += 100;  // x of the translation, KITTI row-major 3 x 4
+      for (size_t k = 0; k < v.size(); ++k) out << std::setprecision(12) << v[k] << (k + 1 < v.size() ? " " : "\n");
+    }
+  }
+  const std::string prefix = (f.dir / "moved").string();
+  const ProgramRun run = runExecutable(
+      kLocalize, mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
+                     " -o " + mapper_test::quoted(prefix) + " --no-pictures --initial " +
+                     mapper_test::quoted(tumPose(f.offStart())) + " --reference " +
+                     mapper_test::quoted(moved),
+      f.dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string json = readText(prefix + ".summary.json");
+  EXPECT_EQ(jsonNumber(json, "scans", "accuracy"), 5);
+  EXPECT_NEAR(jsonNumber(json, "ate_rmse_m"), 100, 0.05);
+}
+
 TEST(LocalizeEndToEnd, AKidnappedStartIsFoundAgainAfterLostScans) {
   Fixture f;
   Eigen::Isometry3d kidnapped = f.offStart();
