@@ -102,10 +102,7 @@ class Tracker {
   }
 
  private:
-  // `map`: the prior map, or with the live map's cells where the prior has none. Every
-  // attempt runs the whole pyramid: starting the prediction's registration on the fine levels
-  // alone costs more, as the fine levels then iterate longer and more scans need the retries
-  // (doc/benchmarks.md, "Measurements behind the code").
+  // `map`: the prior map, or with the live map's cells where the prior has none.
   void track(const ndtom::NdtMap& map, const std::vector<Eigen::Vector3d>& points,
              ScanRecord& record) {
     ndtom::Placement placed = placer_.place(map, points, *record.prediction, motion_.lastPose());

@@ -125,7 +125,6 @@ SlamOptions parseSlamOptions(int argc, char** argv) {
   if (!o.reference_file.empty() && !std::filesystem::is_regular_file(o.reference_file, ec))
     throw UsageError("--reference " + o.reference_file + ": no such file");
   try {
-    ndtom::validate(o.online.placement.registration);
     OnlineMapperOptions check = o.online;
     check.map = ndtom::MapOptions{};
     ndtom::validate(check);

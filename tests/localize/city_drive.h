@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdio>
+#include <functional>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "city_route.h"
+#include "ndtom/map/ndt_map.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 #include "simulated_lidar.h"
@@ -38,6 +40,19 @@ inline void writeDrive(const ndtom::world::CityWorld& city, const ndtom::world::
     times << 0.5 * double(i) << "\n";
   }
   ndtom::io::writeKittiPoseFile((folder / "poses.txt").string(), raised);
+}
+
+/// The scans of `poses` (raised) inserted into `map`, those `keep` accepts (by index).
+inline void insertDrive(ndtom::NdtMap& map, const ndtom::world::CityWorld& city,
+                        const ndtom::world::LidarModel& lidar,
+                        const std::vector<Eigen::Isometry3d>& poses,
+                        const std::function<bool(size_t)>& keep = {}) {
+  for (size_t i = 0; i < poses.size(); ++i) {
+    if (keep && !keep(i)) continue;
+    auto points = ndtom::world::simulateScan(city, lidar, poses[i], i);
+    for (auto& p : points) p = kRaise * (poses[i] * p);
+    map.insertScan(points, kRaise * poses[i].translation());
+  }
 }
 
 /// `pose` raised, as ndtom-localize's --initial reads it: "x y z qx qy qz qw".

@@ -17,7 +17,6 @@ using namespace mapper_test;
 
 namespace {
 
-using city_drive::kRaise;
 
 TEST(LocalizeLeaveAndReturn, TheLiveMapCarriesTheDriveThroughAGapInThePriorMap) {
   TempDir dir;
@@ -37,14 +36,10 @@ TEST(LocalizeLeaveAndReturn, TheLiveMapCarriesTheDriveThroughAGapInThePriorMap) 
   options.resolution = 0.2;
   options.scan.max_range = 20;
   ndtom::NdtMap map(options);
-  const auto map_poses = ndtom::world::driveThrough(city, route);
-  for (size_t i = 0; i < map_poses.size(); ++i) {
+  city_drive::insertDrive(map, city, lidar, ndtom::world::driveThrough(city, route), [&](size_t i) {
     const double along = route.step * double(i);
-    if (along > gap_from && along < gap_to) continue;
-    auto points = ndtom::world::simulateScan(city, lidar, map_poses[i], i);
-    for (auto& p : points) p = kRaise * (map_poses[i] * p);
-    map.insertScan(points, kRaise * map_poses[i].translation());
-  }
+    return !(along > gap_from && along < gap_to);
+  });
   const std::string map_file = (dir / "prior.ndtom").string();
   ndtom::saveMap(map, map_file);
 

@@ -17,7 +17,6 @@ using namespace mapper_test;
 
 namespace {
 
-using city_drive::kRaise;
 using city_drive::writeDrive;
 
 TEST(LocalizeRegion, TiledMapLoadedAroundTheRobotPlacesEveryScan) {
@@ -37,12 +36,7 @@ TEST(LocalizeRegion, TiledMapLoadedAroundTheRobotPlacesEveryScan) {
   ndtom::MapOptions options;
   options.resolution = 0.4;
   ndtom::NdtMap map(options);
-  const auto map_poses = ndtom::world::driveThrough(city, route);
-  for (size_t i = 0; i < map_poses.size(); ++i) {
-    auto points = ndtom::world::simulateScan(city, lidar, map_poses[i], i);
-    for (auto& p : points) p = kRaise * (map_poses[i] * p);
-    map.insertScan(points, kRaise * map_poses[i].translation());
-  }
+  city_drive::insertDrive(map, city, lidar, ndtom::world::driveThrough(city, route));
   const std::string tiles = (dir / "city.ndtomtiles").string();
   ndtom::saveTiledMap(map, tiles, 4);
   ndtom::saveMap(map, (dir / "whole.ndtom").string());

@@ -74,6 +74,9 @@ Placement ScanPlacer::place(const NdtMap& map, const std::vector<Eigen::Vector3d
   return placement;
 }
 
+// Every start runs the whole pyramid: starting the prediction's registration on the fine
+// levels alone costs more, as the fine levels then iterate longer and more scans need the
+// retries (doc/benchmarks.md, "Measurements behind the code").
 void ScanPlacer::registerFromStarts(const NdtMap& map, const std::vector<Eigen::Vector3d>& points,
                                     const Eigen::Isometry3d& prediction,
                                     const Eigen::Isometry3d& last_pose, Placement& placement) {

@@ -1,6 +1,5 @@
 #include "ndtom/online/online_mapper.h"
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
