@@ -109,6 +109,18 @@ TEST(CellRules, LoaderRefusesWhatNoMapCanHold) {
             std::string::npos);
   bad.relative_mean.x() = half;  // on its face: inside
   EXPECT_EQ(loadError(oneCell({0, 0, 0}, 1.f, bad)), "loaded");
+  // Issue #38: diag(1e308) loaded and then overflowed in coarsening. Two points on opposite
+  // faces spread r²/2 in total, inside the limit of N·r²; more than that no points can.
+  bad = good;
+  bad.scatter = Eigen::Matrix3d::Identity() * 1e308;
+  EXPECT_NE(loadError(oneCell({0, 0, 0}, 1.f, bad)).find("scatter wider than its cell"),
+            std::string::npos);
+  const CellStats faces = CellStats::fromPoints({{-half, -half, -half}, {half, half, half}});
+  EXPECT_EQ(loadError(oneCell({0, 0, 0}, 1.f, faces)), "loaded");
+  bad = faces;
+  bad.scatter(1, 1) = std::nextafter(2 * o.resolution * o.resolution, 1e9);
+  EXPECT_NE(loadError(oneCell({0, 0, 0}, 1.f, bad)).find("scatter wider than its cell"),
+            std::string::npos);
   bad = good;
   bad.n = 1;
   EXPECT_NE(loadError(oneCell({0, 0, 0}, 1.f, bad)).find("one point with a non-zero scatter"),
@@ -204,6 +216,14 @@ TEST(CellRules, PointCountSaturates) {
   b.n = 5;
   a.merge(b);
   EXPECT_EQ(a.n, ndtom::kMaxCellPoints);  // was 3
+  // S shrinks with N: the covariance is that of the exact merge of 2^32 + 3 points.
+  CellStats c = threePoints(0.1), d = threePoints(0.1);
+  c.n = ndtom::kMaxCellPoints - 1;
+  d.n = 5;
+  const double total = double(c.n) + d.n;
+  const Eigen::Matrix3d unsaturated = c.scatter + d.scatter;  // same means: no cross term
+  c.merge(d);
+  EXPECT_TRUE(c.covariance().isApprox(unsaturated / (total - 1), 1e-12));
   NdtMap fine;
   CellStats big = threePoints(0.1);
   big.n = 3000000000u;

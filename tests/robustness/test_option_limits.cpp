@@ -51,6 +51,13 @@ TEST(OptionLimits, AbsurdValuesAreRefusedNamingTheOption) {
                  "min_eigen_ratio");
   expectRejected([](ndtom::MapOptions& o) { o.regularization.min_eigen_abs = -1; },
                  "min_eigen_abs");
+  // Issue #38: a floor above r² makes every Gaussian wider than its cell (and its picture
+  // ellipse wider than the picture); it is refused before any work.
+  for (const double m : {0.04 * 1.0001, 1e3, 1e300, inf, nan})
+    expectRejected([m](ndtom::MapOptions& o) {
+      o.resolution = 0.2;
+      o.regularization.min_eigen_abs = m;
+    }, "min_eigen_abs");
   EXPECT_THROW(ndtom::rayModeFromString("fast"), std::invalid_argument);
 }
 
@@ -60,5 +67,8 @@ TEST(OptionLimits, TheDefaultsAndTheBoundsThemselvesAreAccepted) {
   o.resolution = ndtom::kMinResolution;
   EXPECT_NO_THROW(ndtom::NdtMap{o});
   o.resolution = ndtom::kMaxResolution;
+  EXPECT_NO_THROW(ndtom::NdtMap{o});
+  o.resolution = 0.2;
+  o.regularization.min_eigen_abs = 0.2 * 0.2;
   EXPECT_NO_THROW(ndtom::NdtMap{o});
 }

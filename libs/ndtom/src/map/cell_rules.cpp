@@ -43,6 +43,10 @@ const char* cellProblem(const CellIndex& index, float logodds, const CellStats& 
   if (s != s.transpose()) return "asymmetric scatter";
   if (stats.n == 1 && !s.isZero(0)) return "one point with a non-zero scatter";
   if (!positiveSemiDefinite(s)) return "scatter not positive semi-definite";
+  // N points inside a cell of edge r spread at most N·r²/4 per axis; 4× that leaves room for
+  // rounding and keeps merges and coarsening of any valid cell finite.
+  const double spread_limit = double(stats.n) * options.resolution * options.resolution;
+  if (!(s.diagonal().maxCoeff() <= spread_limit)) return "scatter wider than its cell";
   return nullptr;
 }
 

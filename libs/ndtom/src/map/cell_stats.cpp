@@ -30,7 +30,13 @@ void CellStats::merge(const CellStats& other) {
   addWeightedOuterProduct(scatter, delta, m * k / total);
   // Eq. 2, written as an increment so equal means stay bit-exact.
   relative_mean += (k / total) * delta;
-  n = uint32_t(std::min<uint64_t>(uint64_t(n) + other.n, kMaxCellPoints));
+  const uint64_t count = uint64_t(n) + other.n;
+  if (count > kMaxCellPoints) {
+    // N saturates: shrink S with it, so S / (N − 1) stays the covariance and S stays within
+    // what N points can spread in the cell (cell_rules.h).
+    scatter *= double(kMaxCellPoints) / double(count);
+  }
+  n = uint32_t(std::min<uint64_t>(count, kMaxCellPoints));
 }
 
 CellStats CellStats::fromPoints(const std::vector<Eigen::Vector3d>& relative_points) {

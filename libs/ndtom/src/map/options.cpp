@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "ndtom/map/option_table.h"
 #include "support/option_error.h"
@@ -147,6 +148,12 @@ void validate(const MapOptions& o) {
   validateRows(o);
   if (!(o.scan.max_range > o.scan.min_range))
     failOption("max_range", o.scan.max_range, "must be > min_range");
+  // A floor above r² makes every Gaussian wider than its cell: a map of blobs, and pictures
+  // whose ellipses each cover the picture.
+  const double cell_area = o.resolution * o.resolution;
+  if (!(o.regularization.min_eigen_abs <= cell_area))
+    failOption("min_eigen_abs", o.regularization.min_eigen_abs,
+               ("must be <= resolution^2 (" + std::to_string(cell_area) + " m^2)").c_str());
 }
 
 }  // namespace ndtom

@@ -14,7 +14,8 @@ namespace ndtom {
 ///  - the log-odds is finite and within the clamp bounds;
 ///  - statistics (N > 0) only where occupancy is off or the log-odds is > 0; their mean,
 ///    relative to the cell centre, inside the closed cell; their scatter finite, symmetric,
-///    positive semi-definite (up to rounding), and zero for a single point.
+///    positive semi-definite (up to rounding), zero for a single point, and each diagonal
+///    entry at most N·resolution² (what N points inside the cell can spread, with slack).
 const char* cellProblem(const CellIndex& index, float logodds, const CellStats& stats,
                         const MapOptions& options);
 

@@ -15,8 +15,9 @@ namespace ndtom {
 
 /// The paper computes a Gaussian only from 3 points on (Sec. IV-A-1).
 inline constexpr uint32_t kMinPointsForGaussian = 3;
-/// The point count saturates here (merges past 4.29e9 points keep their exact weights in μ
-/// and S, but N stays), rather than wrapping to a small number.
+/// The point count saturates here rather than wrapping to a small number: a merge past 4.29e9
+/// points keeps its exact weights in μ and scales S down with N, so S / (N − 1) is still
+/// the covariance.
 inline constexpr uint32_t kMaxCellPoints = UINT32_MAX;
 
 struct CellStats {
