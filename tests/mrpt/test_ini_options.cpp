@@ -328,6 +328,11 @@ TEST(IniOptions, HostileLikelihoodAndRenderValuesAreRefused) {
       {"outlier_likelihood =", "[s] outlier_likelihood: not a number: ''"},
       {"min_range = 1e-400", "[s] min_range: out of a double's range: '1e-400'"},
       {"scale = 0.5x", "[s] scale: not a number: '0.5x'"},
+      // pf-localization aborted on this: see TLikelihoodOptions::kMaxScale.
+      {"scale = 1e308", "[s] scale = 1e+308: must be in (0, 1e+280], which keeps a particle "
+                        "filter's log-likelihoods finite"},
+      {"scale = 0", "[s] scale = 0: must be in (0, 1e+280], which keeps a particle filter's "
+                    "log-likelihoods finite"},
       {"likelihood_method = 1x", "[s] likelihood_method: expected Points or NdtMcl, got '1x'"},
       {"likelihood_method = NdtMcl fast",
        "[s] likelihood_method: expected Points or NdtMcl, got 'NdtMcl fast'"},
@@ -366,6 +371,8 @@ TEST(IniOptions, CommentsCapitalsAndNonFiniteWhereMeantStillLoad) {
   EXPECT_FALSE(lik.search_neighbours);
   EXPECT_EQ(lik.max_range, 30.0);
   EXPECT_EQ(lik.likelihood_method, CNDTOccupancyMap::TLikelihoodMethod::NdtMcl);
+  lik.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\nscale = 1e280\n"), "s");
+  EXPECT_EQ(lik.scale, CNDTOccupancyMap::TLikelihoodOptions::kMaxScale);
 
   mrpt_ndtom::TRenderOptions render;
   render.color_min_z = 1;

@@ -212,7 +212,8 @@ void CNDTOccupancyMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfi
                                "Points: best Gaussian of the 27 cells around a point");
   MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Closer points are not used [m]");
   MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Farther points are not used [m] (inf: no limit)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(scale, "Multiplies the log-likelihood (< 1 flattens weights)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(scale,
+                               "Multiplies the log-likelihood (< 1 flattens weights), <= 1e280");
   MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_scan_factor, "NdtMcl: scan cell edge in map cells, [1, 64]");
   MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_map_factor,
                                "NdtMcl: map coarsening scored against, [1, 64] (1: the map)");
@@ -233,8 +234,9 @@ void CNDTOccupancyMap::TLikelihoodOptions::validate() const {
     msg << "min_range = " << min_range << ": must be finite and >= 0";
   else if (!(max_range > min_range))
     msg << "max_range = " << max_range << ": must be > min_range";
-  else if (!(std::isfinite(scale) && scale > 0))
-    msg << "scale = " << scale << ": must be finite and > 0";
+  else if (!(scale > 0 && scale <= kMaxScale))
+    msg << "scale = " << scale << ": must be in (0, " << kMaxScale
+        << "], which keeps a particle filter's log-likelihoods finite";
   else if (likelihood_method != TLikelihoodMethod::Points &&
            likelihood_method != TLikelihoodMethod::NdtMcl)
     msg << "likelihood_method = " << int32_t(likelihood_method) << ": unknown method";
