@@ -70,6 +70,7 @@ TEST(ParseBool, TheWordsMrptUnderstands) {
 TEST(SplitList, LeavesOutEmptyItems) {
   EXPECT_EQ(splitList("0.1,,0.2,"), (std::vector<std::string>{"0.1", "0.2"}));
   EXPECT_EQ(splitList("octomap"), (std::vector<std::string>{"octomap"}));
+  EXPECT_EQ(splitList("1, 2 , ,"), (std::vector<std::string>{"1", "2"}));
   EXPECT_TRUE(splitList("").empty());
   EXPECT_TRUE(splitList(",,").empty());
 }

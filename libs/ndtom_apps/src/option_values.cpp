@@ -60,8 +60,9 @@ bool parseBool(const std::string& option, const std::string& text) {
 std::vector<std::string> splitList(const std::string& text) {
   std::vector<std::string> items;
   std::stringstream s(text);
+  // Trimmed: "1, 2" is two items, as it was when the parsers skipped leading blanks.
   for (std::string item; std::getline(s, item, ',');)
-    if (!item.empty()) items.push_back(item);
+    if (!(item = trim(item)).empty()) items.push_back(item);
   return items;
 }
 

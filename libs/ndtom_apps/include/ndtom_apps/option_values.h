@@ -32,7 +32,7 @@ std::vector<int> parseLevelFactors(const std::string& option, const std::string&
 /// true/yes/1 or false/no/0, any case, as the MRPT plugin reads its .ini files.
 bool parseBool(const std::string& option, const std::string& text);
 
-/// The items of a comma-separated list, empty ones left out ("0.1,,0.2," has two).
+/// The items of a comma-separated list, trimmed, empty ones left out ("0.1,, 0.2," has two).
 std::vector<std::string> splitList(const std::string& text);
 
 /// `text` without leading and trailing blanks.
