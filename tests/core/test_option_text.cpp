@@ -65,8 +65,10 @@ TEST(OptionText, IntegersAreExactAndInRange) {
   EXPECT_EQ(ndtom::integerFromText("k", "-0", 0, 20), 0);
   EXPECT_EQ(ndtom::integerFromText("k", "9223372036854775807", 0, INT64_MAX), INT64_MAX);
   // atoi reads the first two as 2, the next ones as 2, 1, 3 and 0.
-  EXPECT_EQ(integerError("4294967298", 1, 2147483647), "k = 4294967298: must be in [1, 2147483647]");
-  EXPECT_EQ(integerError("99999999999999999999", 1, 20), "k = 99999999999999999999: must be in [1, 20]");
+  EXPECT_EQ(integerError("4294967298", 1, 2147483647),
+            "k = 4294967298: must be in [1, 2147483647]");
+  EXPECT_EQ(integerError("99999999999999999999", 1, 20),
+            "k = 99999999999999999999: must be in [1, 20]");
   EXPECT_EQ(integerError("-0", 1, 20), "k = -0: must be in [1, 20]");
   for (const std::string text : {"2.5", "1e3", "3x", "0x10", " 4", "4 ", "", "two", "2 threads"})
     EXPECT_EQ(integerError(text, 1, 20), "k: not an integer: '" + text + "'") << text;

@@ -95,14 +95,27 @@ TEST(InsertionSettings, FileThenCommandLine) {
 // options, or both are refused naming the key.
 TEST(InsertionSettings, FileAndFlagsTakeTheSameTexts) {
   TempDir dir;
-  const std::vector<std::pair<std::string, std::string>> texts = {
-      {"occupancy_enabled", "on"},   {"occupancy_enabled", "maybe"}, {"occupancy_enabled", "2"},
-      {"occupancy_enabled", "TRUE"}, {"occupancy_enabled", "no"},    {"decimation", "4294967298"},
-      {"decimation", "2.5"},         {"decimation", "-0"},           {"decimation", "+3"},
-      {"resolution", "0.2abc"},      {"resolution", "0.2"},          {"resolution", ""},
-      {"max_range", "100m"},         {"max_range", "inf"},           {"min_eigen_abs", "1e400"},
-      {"threads", "3x"},             {"threads", "3"},               {"ray_mode", "PerHitCell x"},
-      {"ray_mode", "1"},             {"memory_budget", "1e400"},     {"p_hit", "nan"}};
+  const std::vector<std::pair<std::string, std::string>> texts = {{"occupancy_enabled", "on"},
+                                                                  {"occupancy_enabled", "maybe"},
+                                                                  {"occupancy_enabled", "2"},
+                                                                  {"occupancy_enabled", "TRUE"},
+                                                                  {"occupancy_enabled", "no"},
+                                                                  {"decimation", "4294967298"},
+                                                                  {"decimation", "2.5"},
+                                                                  {"decimation", "-0"},
+                                                                  {"decimation", "+3"},
+                                                                  {"resolution", "0.2abc"},
+                                                                  {"resolution", "0.2"},
+                                                                  {"resolution", ""},
+                                                                  {"max_range", "100m"},
+                                                                  {"max_range", "inf"},
+                                                                  {"min_eigen_abs", "1e400"},
+                                                                  {"threads", "3x"},
+                                                                  {"threads", "3"},
+                                                                  {"ray_mode", "PerHitCell x"},
+                                                                  {"ray_mode", "1"},
+                                                                  {"memory_budget", "1e400"},
+                                                                  {"p_hit", "nan"}};
   for (const auto& [key, text] : texts) {
     std::ofstream(dir / "map.ini") << "[s]\n" << key << " = " << text << "\n";
     InsertionSettings file, flag;

@@ -280,7 +280,8 @@ namespace {
 template <class T>
 std::string loadError(const std::string& body) {
   T o;
-  return thrownMessage([&] { o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s"); });
+  return thrownMessage(
+      [&] { o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s"); });
 }
 
 template <class T>
@@ -298,24 +299,26 @@ void expectRefusals(const std::vector<std::pair<std::string, std::string>>& case
 // --config and flags do, and refuses them in one line naming the section, key and text.
 TEST(IniOptions, HostileInsertionValuesAreRefused) {
   expectRefusals<CNDTOccupancyMap::TInsertionOptions>({
-      {"occupancy_enabled = on", "[s] occupancy_enabled: expected true or false, got 'on'"},  // false
+      {"occupancy_enabled = on",
+       "[s] occupancy_enabled: expected true or false, got 'on'"},  // false
       {"occupancy_enabled = maybe", "[s] occupancy_enabled: expected true or false, got 'maybe'"},
       {"occupancy_enabled = 2", "[s] occupancy_enabled: expected true or false, got '2'"},  // true
       {"decimation = 4294967298", "[s] decimation = 4294967298: must be in [1, 2147483647]"},  // 2
-      {"decimation = 2.5", "[s] decimation: not an integer: '2.5'"},                        // 2
+      {"decimation = 2.5", "[s] decimation: not an integer: '2.5'"},                           // 2
       {"decimation = -0", "[s] decimation = -0: must be in [1, 2147483647]"},
-      {"decimation_3d_range = 3x", "[s] decimation_3d_range: not an integer: '3x'"},        // 3
-      {"resolution = 0.2abc", "[s] resolution: not a number: '0.2abc'"},                    // 0.2
-      {"max_range = 100m", "[s] max_range: not a number: '100m'"},                          // 100
-      {"resolution =", "[s] resolution: not a number: ''"},                                 // 0
-      {"resolution = # cell edge", "[s] resolution: not a number: ''"},                     // 0
-      {"threads = 3x", "[s] threads: not an integer: '3x'"},                                // 3
-      {"min_eigen_abs = 1e400", "[s] min_eigen_abs: out of a double's range: '1e400'"},     // inf
+      {"decimation_3d_range = 3x", "[s] decimation_3d_range: not an integer: '3x'"},     // 3
+      {"resolution = 0.2abc", "[s] resolution: not a number: '0.2abc'"},                 // 0.2
+      {"max_range = 100m", "[s] max_range: not a number: '100m'"},                       // 100
+      {"resolution =", "[s] resolution: not a number: ''"},                              // 0
+      {"resolution = # cell edge", "[s] resolution: not a number: ''"},                  // 0
+      {"threads = 3x", "[s] threads: not an integer: '3x'"},                             // 3
+      {"min_eigen_abs = 1e400", "[s] min_eigen_abs: out of a double's range: '1e400'"},  // inf
       {"min_eigen_abs = inf", "[s] min_eigen_abs: must be finite, got 'inf'"},
       {"p_hit = nan", "[s] p_hit: not a number: 'nan'"},
-      {"p_hit = 0.7;0.8", "[s] p_hit: not a number: '0.7;0.8'"},                            // 0.7
-      {"ray_mode = PerHitCell fast", "[s] ray_mode: expected PerPoint or PerHitCell, got "
-                                     "'PerHitCell fast'"},  // the first word
+      {"p_hit = 0.7;0.8", "[s] p_hit: not a number: '0.7;0.8'"},  // 0.7
+      {"ray_mode = PerHitCell fast",
+       "[s] ray_mode: expected PerPoint or PerHitCell, got "
+       "'PerHitCell fast'"},  // the first word
       {"ray_mode = 1x", "[s] ray_mode: expected PerPoint or PerHitCell, got '1x'"},
   });
 }
@@ -329,10 +332,12 @@ TEST(IniOptions, HostileLikelihoodAndRenderValuesAreRefused) {
       {"min_range = 1e-400", "[s] min_range: out of a double's range: '1e-400'"},
       {"scale = 0.5x", "[s] scale: not a number: '0.5x'"},
       // pf-localization aborted on this: see TLikelihoodOptions::kMaxScale.
-      {"scale = 1e308", "[s] scale = 1e+308: must be in (0, 1e+280], which keeps a particle "
-                        "filter's log-likelihoods finite"},
-      {"scale = 0", "[s] scale = 0: must be in (0, 1e+280], which keeps a particle filter's "
-                    "log-likelihoods finite"},
+      {"scale = 1e308",
+       "[s] scale = 1e+308: must be in (0, 1e+280], which keeps a particle "
+       "filter's log-likelihoods finite"},
+      {"scale = 0",
+       "[s] scale = 0: must be in (0, 1e+280], which keeps a particle filter's "
+       "log-likelihoods finite"},
       {"likelihood_method = 1x", "[s] likelihood_method: expected Points or NdtMcl, got '1x'"},
       {"likelihood_method = NdtMcl fast",
        "[s] likelihood_method: expected Points or NdtMcl, got 'NdtMcl fast'"},
@@ -342,7 +347,8 @@ TEST(IniOptions, HostileLikelihoodAndRenderValuesAreRefused) {
       {"quantiles = 2.5x", "[s] quantiles: not a number: '2.5x'"},
       {"color_min_z = inf", "[s] color_min_z: must be finite, got 'inf'"},
       {"free_cell_point_size = 1e39", "[s] free_cell_point_size = inf: must be finite and > 0"},
-      {"max_free_cells = 4294967296", "[s] max_free_cells = 4294967296: must be in [0, 4294967295]"},
+      {"max_free_cells = 4294967296",
+       "[s] max_free_cells = 4294967296: must be in [0, 4294967295]"},
       {"subdivisions = 2.0", "[s] subdivisions: not an integer: '2.0'"},
   });
   const std::string colormap = loadError<mrpt_ndtom::TRenderOptions>("colormap = 99");
@@ -364,10 +370,10 @@ TEST(IniOptions, CommentsCapitalsAndNonFiniteWhereMeantStillLoad) {
   EXPECT_FALSE(loadInsertion("occupancy_enabled = No").occupancy.enabled);
 
   CNDTOccupancyMap::TLikelihoodOptions lik;
-  lik.loadFromConfigFile(mrpt::config::CConfigFileMemory(
-                             "[s]\nsearch_neighbours = no # one cell\nmax_range = 30 ; m\n"
-                             "likelihood_method = NdtMcl ; per particle\n"),
-                         "s");
+  lik.loadFromConfigFile(
+      mrpt::config::CConfigFileMemory("[s]\nsearch_neighbours = no # one cell\nmax_range = 30 ; m\n"
+                                      "likelihood_method = NdtMcl ; per particle\n"),
+      "s");
   EXPECT_FALSE(lik.search_neighbours);
   EXPECT_EQ(lik.max_range, 30.0);
   EXPECT_EQ(lik.likelihood_method, CNDTOccupancyMap::TLikelihoodMethod::NdtMcl);

@@ -221,6 +221,5 @@ TEST(LikelihoodReal, ScaleAtItsBoundKeepsLikelihoodsFinite) {
   } catch (const std::exception& e) {
     message = e.what();
   }
-  EXPECT_NE(message.find("scale = 1e+308: must be in (0, 1e+280]"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find("scale = 1e+308: must be in (0, 1e+280]"), std::string::npos) << message;
 }

@@ -196,8 +196,8 @@ TEST(MrptPrograms, PfLocalizationRefusesAScaleThatWouldAbortIt) {
   WorkDir dir;
   std::ofstream(dir.path / "pf.ini")
       << withValues(readFile(kShare + "/pf-localization_ndtom.ini"), {{"scale", "1e308"}});
-  const int rc = run("timeout 300 " + preload() + "pf-localization pf.ini", dir.path,
-                     dir.path / "pf.log");
+  const int rc =
+      run("timeout 300 " + preload() + "pf-localization pf.ini", dir.path, dir.path / "pf.log");
   const std::string log = readFile(dir.path / "pf.log");
   EXPECT_NE(rc, 0) << log;
   EXPECT_NE(rc, 124) << "timed out: " << log;

@@ -145,10 +145,14 @@ TEST(NdtRegistrationMrpt, OptionsRoundTripThroughIniText) {
   EXPECT_EQ(back.core.threads, o.core.threads);
 
   const std::vector<std::pair<std::string, std::string>> bad = {
-      {"method = icp", "method"},           {"level_factors = 1 2", "level_factors"},
-      {"level_factors = 4 x", "level_factors"}, {"outlier_ratio = 1", "outlier_ratio"},
-      {"max_iterations = 1e3", "max_iterations"}, {"threads = 0", "threads"},
-      {"max_points = 3", "max_points"},     {"min_matched_fraction = 2", "min_matched_fraction"},
+      {"method = icp", "method"},
+      {"level_factors = 1 2", "level_factors"},
+      {"level_factors = 4 x", "level_factors"},
+      {"outlier_ratio = 1", "outlier_ratio"},
+      {"max_iterations = 1e3", "max_iterations"},
+      {"threads = 0", "threads"},
+      {"max_points = 3", "max_points"},
+      {"min_matched_fraction = 2", "min_matched_fraction"},
       {"max_free_fraction = -1", "max_free_fraction"},
       // #38: MRPT's readers took these as false, 0.2, 2, 3 and 1 without a word.
       {"planar = maybe", "planar: expected true or false, got 'maybe'"},

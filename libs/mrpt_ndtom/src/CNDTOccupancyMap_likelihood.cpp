@@ -24,9 +24,10 @@ double CNDTOccupancyMap::internal_computeObservationLikelihood(
   // scale set in code past it would give -inf, so it is refused here, where it is used.
   const double scale = likelihoodOptions.scale;
   if (!(scale > 0 && scale <= TLikelihoodOptions::kMaxScale))
-    THROW_EXCEPTION(mrpt::format("CNDTOccupancyMap::likelihoodOptions: scale = %g: must be in "
-                                 "(0, %g]",
-                                 scale, TLikelihoodOptions::kMaxScale));
+    THROW_EXCEPTION(
+        mrpt::format("CNDTOccupancyMap::likelihoodOptions: scale = %g: must be in "
+                     "(0, %g]",
+                     scale, TLikelihoodOptions::kMaxScale));
   return likelihoodOptions.likelihood_method == TLikelihoodMethod::NdtMcl
              ? ndtMclLikelihood(obs, takenFrom)
              : pointsLikelihood(obs, takenFrom);

@@ -34,7 +34,8 @@ void CNDTRegistration::TConfigParams::loadFromConfigFile(
   o.method = detail::iniValue(source, section, "method", o.method, [](const std::string& text) {
     return ndtom::registrationMethodFromString(text);
   });
-  o.level_factors = detail::iniValue(source, section, "level_factors", o.level_factors, parseFactors);
+  o.level_factors =
+      detail::iniValue(source, section, "level_factors", o.level_factors, parseFactors);
   o.outlier_ratio = iniReal(source, section, "outlier_ratio", o.outlier_ratio);
   o.max_iterations = int(iniInteger(source, section, "max_iterations", o.max_iterations, 1, 1000));
   o.translation_epsilon = iniReal(source, section, "translation_epsilon", o.translation_epsilon);

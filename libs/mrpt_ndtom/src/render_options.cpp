@@ -64,7 +64,8 @@ void TRenderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& sou
       iniBool(source, section, "generate_occupied_voxels", generate_occupied_voxels);
   read.visible_occupied_voxels =
       iniBool(source, section, "visible_occupied_voxels", visible_occupied_voxels);
-  read.generate_free_voxels = iniBool(source, section, "generate_free_voxels", generate_free_voxels);
+  read.generate_free_voxels =
+      iniBool(source, section, "generate_free_voxels", generate_free_voxels);
   read.visible_free_voxels = iniBool(source, section, "visible_free_voxels", visible_free_voxels);
   try {
     read.validate();

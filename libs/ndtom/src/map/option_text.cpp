@@ -60,9 +60,8 @@ int64_t integerFromText(const std::string& name, const std::string& text, int64_
   if (!overflow && (text.empty() || error != std::errc() || end != last))
     throw std::invalid_argument(name + ": not an integer: '" + text + "'");
   if (overflow || value < min_value || value > max_value)
-    throw std::invalid_argument(name + " = " + text + ": must be in [" +
-                                std::to_string(min_value) + ", " + std::to_string(max_value) +
-                                "]");
+    throw std::invalid_argument(name + " = " + text + ": must be in [" + std::to_string(min_value) +
+                                ", " + std::to_string(max_value) + "]");
   return value;
 }
 
@@ -80,8 +79,8 @@ double optionFromText(const OptionRow& row, const std::string& name, const std::
       return realFromText(name, text, infinite ? NonFinite::Infinity : NonFinite::Refused);
     }
     case OptionType::Integer:
-      return double(integerFromText(name, text, integerBound(row.bounds.min),
-                                    integerBound(row.bounds.max)));
+      return double(
+          integerFromText(name, text, integerBound(row.bounds.min), integerBound(row.bounds.max)));
     case OptionType::Bool:
       return boolFromText(name, text) ? 1.0 : 0.0;
     case OptionType::Enum:
