@@ -26,7 +26,8 @@ TEST(ParseReal, RefusesAnythingElseNamingTheOption) {
     EXPECT_NE(message.find("'" + text + "'"), std::string::npos) << message;
   }
   EXPECT_EQ(usageMessage([] { parseReal("--x", "nan", true); }), "--x: not a number: 'nan'");
-  EXPECT_EQ(usageMessage([] { parseReal("--x", "1e999", true); }), "--x: not a number: '1e999'");
+  EXPECT_EQ(usageMessage([] { parseReal("--x", "1e999", true); }),
+            "--x: out of a double's range: '1e999'");
   EXPECT_EQ(usageMessage([] { parseReal("--x", ""); }), "--x: not a number: ''");
 }
 
@@ -44,9 +45,11 @@ TEST(ParseInteger, AcceptsIntegersInRange) {
 }
 
 TEST(ParseInteger, RefusesNonIntegersAndValuesOutOfRange) {
-  for (const std::string text : {"1.5", "2.0", "1e3", "3x", "", "abc", "99999999999999999999"})
+  for (const std::string text : {"1.5", "2.0", "1e3", "3x", "", "abc", " 4", "0x10"})
     EXPECT_EQ(usageMessage([&] { parseInteger("--passes", text, 1, 20); }),
               "--passes: not an integer: '" + text + "'");
+  EXPECT_EQ(usageMessage([] { parseInteger("--passes", "99999999999999999999", 1, 20); }),
+            "--passes = 99999999999999999999: must be in [1, 20]");
   EXPECT_EQ(usageMessage([] { parseInteger("--passes", "21", 1, 20); }),
             "--passes = 21: must be in [1, 20]");
   EXPECT_EQ(usageMessage([] { parseInteger("--passes", "0", 1, 20); }),
@@ -67,6 +70,7 @@ TEST(ParseBool, TheWordsMrptUnderstands) {
 TEST(SplitList, LeavesOutEmptyItems) {
   EXPECT_EQ(splitList("0.1,,0.2,"), (std::vector<std::string>{"0.1", "0.2"}));
   EXPECT_EQ(splitList("octomap"), (std::vector<std::string>{"octomap"}));
+  EXPECT_EQ(splitList("1, 2 , ,"), (std::vector<std::string>{"1", "2"}));
   EXPECT_TRUE(splitList("").empty());
   EXPECT_TRUE(splitList(",,").empty());
 }

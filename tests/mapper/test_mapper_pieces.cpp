@@ -90,6 +90,71 @@ TEST(InsertionSettings, FileThenCommandLine) {
   for (const auto& key : insertionKeys()) EXPECT_TRUE(isInsertionKey(key.name));
 }
 
+// #38: a value in the --config file and the same text as a flag go through one reader (the
+// plugin's .ini loader and the flags both use ndtom/map/option_text.h): both give the same
+// options, or both are refused naming the key.
+TEST(InsertionSettings, FileAndFlagsTakeTheSameTexts) {
+  TempDir dir;
+  const std::vector<std::pair<std::string, std::string>> texts = {{"occupancy_enabled", "on"},
+                                                                  {"occupancy_enabled", "maybe"},
+                                                                  {"occupancy_enabled", "2"},
+                                                                  {"occupancy_enabled", "TRUE"},
+                                                                  {"occupancy_enabled", "no"},
+                                                                  {"decimation", "4294967298"},
+                                                                  {"decimation", "2.5"},
+                                                                  {"decimation", "-0"},
+                                                                  {"decimation", "+3"},
+                                                                  {"resolution", "0.2abc"},
+                                                                  {"resolution", "0.2"},
+                                                                  {"resolution", ""},
+                                                                  {"max_range", "100m"},
+                                                                  {"max_range", "inf"},
+                                                                  {"min_eigen_abs", "1e400"},
+                                                                  {"threads", "3x"},
+                                                                  {"threads", "3"},
+                                                                  {"ray_mode", "PerHitCell x"},
+                                                                  {"ray_mode", "1"},
+                                                                  {"memory_budget", "1e400"},
+                                                                  {"p_hit", "nan"}};
+  for (const auto& [key, text] : texts) {
+    std::ofstream(dir / "map.ini") << "[s]\n" << key << " = " << text << "\n";
+    InsertionSettings file, flag;
+    file.config_file = (dir / "map.ini").string();
+    file.section = "s";
+    flag.overrides = {{key, text}};
+    InsertionOptions from_file, from_flag;
+    std::string file_error, flag_error;
+    try {
+      from_file = resolveInsertionOptions(file);
+    } catch (const UsageError& e) {
+      file_error = e.what();
+    }
+    try {
+      from_flag = resolveInsertionOptions(flag);
+    } catch (const UsageError& e) {
+      flag_error = e.what();
+    }
+    const std::string what = key + " = '" + text + "': " + file_error + " | " + flag_error;
+    ASSERT_EQ(file_error.empty(), flag_error.empty()) << what;
+    if (file_error.empty()) {
+      EXPECT_TRUE(from_file == from_flag) << what;
+    } else {
+      std::string option = "--" + key;
+      std::replace(option.begin(), option.end(), '_', '-');
+      EXPECT_NE(file_error.find("[s] " + key), std::string::npos) << what;
+      EXPECT_NE(flag_error.find(option), std::string::npos) << what;
+    }
+  }
+  // Only a file has comments: MRPT leaves "# ..." and "; ..." in the value.
+  std::ofstream(dir / "map.ini") << "[s]\nthreads = 3 # three\nresolution = 0.25 ; m\n";
+  InsertionSettings file;
+  file.config_file = (dir / "map.ini").string();
+  file.section = "s";
+  const InsertionOptions commented = resolveInsertionOptions(file);
+  EXPECT_EQ(commented.scan.threads, 3);
+  EXPECT_EQ(commented.resolution, 0.25);
+}
+
 TEST(TrajectoryPoses, TumMatchesTheNearestTimeWithinTheTolerance) {
   TempDir dir;
   std::ofstream(dir / "t.txt") << "# t x y z qx qy qz qw\n"

@@ -7,6 +7,7 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
+#include <cmath>
 #include <sstream>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
@@ -223,15 +224,15 @@ TEST(IniOptions, BadValuesFailAtLoadNamingTheOption) {
       {"decimation = 0", "decimation"},
       {"max_range = 0", "max_range"},
       {"likelihood_method = ndt_mcl", "likelihood_method"},
-      {"likelihood_method = 2", "likelihood_method = 2"},
+      {"likelihood_method = 2", "[s] likelihood_method: expected Points or NdtMcl, got '2'"},
       {"ndt_mcl_scan_factor = 0", "[s] ndt_mcl_scan_factor = 0: must be in [1, 64]"},
       {"ndt_mcl_scan_factor = 65", "ndt_mcl_scan_factor = 65"},
-      {"ndt_mcl_scan_factor = 2.5", "ndt_mcl_scan_factor = 2.5"},
+      {"ndt_mcl_scan_factor = 2.5", "[s] ndt_mcl_scan_factor: not an integer: '2.5'"},
       {"ndt_mcl_map_factor = 0", "[s] ndt_mcl_map_factor = 0: must be in [1, 64]"},
-      {"ndt_mcl_map_factor = x", "ndt_mcl_map_factor = x"},
+      {"ndt_mcl_map_factor = x", "[s] ndt_mcl_map_factor: not an integer: 'x'"},
       {"ndt_mcl_max_gaussians = 0", "[s] ndt_mcl_max_gaussians = 0: must be in [1, 100000]"},
-      {"ndt_mcl_max_gaussians = 1e3", "ndt_mcl_max_gaussians = 1e3"},
-      {"ndt_mcl_max_gaussians = many", "ndt_mcl_max_gaussians = many"},
+      {"ndt_mcl_max_gaussians = 1e3", "[s] ndt_mcl_max_gaussians: not an integer: '1e3'"},
+      {"ndt_mcl_max_gaussians = many", "[s] ndt_mcl_max_gaussians: not an integer: 'many'"},
   };
   for (const auto& [body, option] : likelihood) {
     CNDTOccupancyMap::TLikelihoodOptions o;
@@ -252,11 +253,15 @@ TEST(IniOptions, ThreadsMustBeAnIntegerInTheCoresRange) {
   // MRPT keeps "#" and ";" comments in the value (it strips only "//").
   EXPECT_EQ(loadInsertion("threads = 4   # four").scan.threads, 4);
   EXPECT_EQ(loadInsertion("threads = 3 ; three").scan.threads, 3);
-  // MRPT's read_int would take the last three as 2, 1 and 2.
-  for (const std::string value :
-       {"0", "-3", "257", "100000", "4294967298", "1e3", "2.5", "two", "2 threads"}) {
+  // MRPT's read_int would take these as 2, 1, 2 and 2.
+  for (const std::string value : {"0", "-3", "257", "100000", "4294967298"}) {
     const std::string msg = thrownMessage([&] { loadInsertion("threads = " + value); });
-    EXPECT_NE(msg.find("[s] threads = " + value + ":"), std::string::npos)
+    EXPECT_NE(msg.find("[s] threads = " + value + ": must be in [1, 256]"), std::string::npos)
+        << value << " -> " << msg;
+  }
+  for (const std::string value : {"1e3", "2.5", "two", "2 threads", "4#four"}) {
+    const std::string msg = thrownMessage([&] { loadInsertion("threads = " + value); });
+    EXPECT_NE(msg.find("[s] threads: not an integer: '" + value + "'"), std::string::npos)
         << value << " -> " << msg;
   }
   EXPECT_NE(thrownMessage([] { loadInsertion("threads = 0"); }).find("must be in [1, 256]"),
@@ -267,6 +272,123 @@ TEST(IniOptions, ThreadsMustBeAnIntegerInTheCoresRange) {
   const std::string msg = thrownMessage([&] { map.insertPoints({{2, 0, 0}}, {0, 0, 0}); });
   EXPECT_NE(msg.find("threads = 0"), std::string::npos) << msg;
   EXPECT_TRUE(map.isEmpty());
+}
+
+namespace {
+
+// The message of a load of `body` into a fresh T's section "s"; "" if it loads.
+template <class T>
+std::string loadError(const std::string& body) {
+  T o;
+  return thrownMessage(
+      [&] { o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s"); });
+}
+
+template <class T>
+void expectRefusals(const std::vector<std::pair<std::string, std::string>>& cases) {
+  for (const auto& [body, message] : cases) {
+    const std::string msg = loadError<T>(body);
+    EXPECT_NE(msg.find("Message:  " + message + "\n"), std::string::npos) << body << " -> " << msg;
+  }
+}
+
+}  // namespace
+
+// #38: MRPT's read_bool, read_int, read_double and read_enum took each of these for a value
+// (in the comments); the plugin reads every key with the core's reader, as ndtom-map's
+// --config and flags do, and refuses them in one line naming the section, key and text.
+TEST(IniOptions, HostileInsertionValuesAreRefused) {
+  expectRefusals<CNDTOccupancyMap::TInsertionOptions>({
+      {"occupancy_enabled = on",
+       "[s] occupancy_enabled: expected true or false, got 'on'"},  // false
+      {"occupancy_enabled = maybe", "[s] occupancy_enabled: expected true or false, got 'maybe'"},
+      {"occupancy_enabled = 2", "[s] occupancy_enabled: expected true or false, got '2'"},  // true
+      {"decimation = 4294967298", "[s] decimation = 4294967298: must be in [1, 2147483647]"},  // 2
+      {"decimation = 2.5", "[s] decimation: not an integer: '2.5'"},                           // 2
+      {"decimation = -0", "[s] decimation = -0: must be in [1, 2147483647]"},
+      {"decimation_3d_range = 3x", "[s] decimation_3d_range: not an integer: '3x'"},     // 3
+      {"resolution = 0.2abc", "[s] resolution: not a number: '0.2abc'"},                 // 0.2
+      {"max_range = 100m", "[s] max_range: not a number: '100m'"},                       // 100
+      {"resolution =", "[s] resolution: not a number: ''"},                              // 0
+      {"resolution = # cell edge", "[s] resolution: not a number: ''"},                  // 0
+      {"threads = 3x", "[s] threads: not an integer: '3x'"},                             // 3
+      {"min_eigen_abs = 1e400", "[s] min_eigen_abs: out of a double's range: '1e400'"},  // inf
+      {"min_eigen_abs = inf", "[s] min_eigen_abs: must be finite, got 'inf'"},
+      {"p_hit = nan", "[s] p_hit: not a number: 'nan'"},
+      {"p_hit = 0.7;0.8", "[s] p_hit: not a number: '0.7;0.8'"},  // 0.7
+      {"ray_mode = PerHitCell fast",
+       "[s] ray_mode: expected PerPoint or PerHitCell, got "
+       "'PerHitCell fast'"},  // the first word
+      {"ray_mode = 1x", "[s] ray_mode: expected PerPoint or PerHitCell, got '1x'"},
+  });
+}
+
+TEST(IniOptions, HostileLikelihoodAndRenderValuesAreRefused) {
+  expectRefusals<CNDTOccupancyMap::TLikelihoodOptions>({
+      {"search_neighbours = on", "[s] search_neighbours: expected true or false, got 'on'"},
+      {"decimation = 4294967298", "[s] decimation = 4294967298: must be in [1, 2147483647]"},
+      {"max_range = 12abc", "[s] max_range: not a number: '12abc'"},
+      {"outlier_likelihood =", "[s] outlier_likelihood: not a number: ''"},
+      {"min_range = 1e-400", "[s] min_range: out of a double's range: '1e-400'"},
+      {"scale = 0.5x", "[s] scale: not a number: '0.5x'"},
+      // pf-localization aborted on this: see TLikelihoodOptions::kMaxScale.
+      {"scale = 1e308",
+       "[s] scale = 1e+308: must be in (0, 1e+280], which keeps a particle "
+       "filter's log-likelihoods finite"},
+      {"scale = 0",
+       "[s] scale = 0: must be in (0, 1e+280], which keeps a particle filter's "
+       "log-likelihoods finite"},
+      {"likelihood_method = 1x", "[s] likelihood_method: expected Points or NdtMcl, got '1x'"},
+      {"likelihood_method = NdtMcl fast",
+       "[s] likelihood_method: expected Points or NdtMcl, got 'NdtMcl fast'"},
+  });
+  expectRefusals<mrpt_ndtom::TRenderOptions>({
+      {"show_free_cells = 2", "[s] show_free_cells: expected true or false, got '2'"},
+      {"quantiles = 2.5x", "[s] quantiles: not a number: '2.5x'"},
+      {"color_min_z = inf", "[s] color_min_z: must be finite, got 'inf'"},
+      {"free_cell_point_size = 1e39", "[s] free_cell_point_size = inf: must be finite and > 0"},
+      {"max_free_cells = 4294967296",
+       "[s] max_free_cells = 4294967296: must be in [0, 4294967295]"},
+      {"subdivisions = 2.0", "[s] subdivisions: not an integer: '2.0'"},
+  });
+  const std::string colormap = loadError<mrpt_ndtom::TRenderOptions>("colormap = 99");
+  EXPECT_NE(colormap.find("[s] colormap: expected cm"), std::string::npos) << colormap;
+  EXPECT_NE(colormap.find(", got '99'\n"), std::string::npos) << colormap;
+}
+
+// What a person writes around a value: a comment after a blank, capitals in a bool, an
+// explicit sign, an infinite range, nan where it means "from the map".
+TEST(IniOptions, CommentsCapitalsAndNonFiniteWhereMeantStillLoad) {
+  const auto in = loadInsertion(
+      "resolution = 0.25 # m\noccupancy_enabled = TRUE\nmax_range = inf ; no limit\n"
+      "decimation = +4\nray_mode = PerHitCell   # faster\n");
+  EXPECT_EQ(in.resolution, 0.25);
+  EXPECT_TRUE(in.occupancy.enabled);
+  EXPECT_EQ(in.scan.max_range, INFINITY);
+  EXPECT_EQ(in.decimation, 4u);
+  EXPECT_EQ(in.scan.ray_mode, ndtom::RayMode::PerHitCell);
+  EXPECT_FALSE(loadInsertion("occupancy_enabled = No").occupancy.enabled);
+
+  CNDTOccupancyMap::TLikelihoodOptions lik;
+  lik.loadFromConfigFile(
+      mrpt::config::CConfigFileMemory("[s]\nsearch_neighbours = no # one cell\nmax_range = 30 ; m\n"
+                                      "likelihood_method = NdtMcl ; per particle\n"),
+      "s");
+  EXPECT_FALSE(lik.search_neighbours);
+  EXPECT_EQ(lik.max_range, 30.0);
+  EXPECT_EQ(lik.likelihood_method, CNDTOccupancyMap::TLikelihoodMethod::NdtMcl);
+  lik.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\nscale = 1e280\n"), "s");
+  EXPECT_EQ(lik.scale, CNDTOccupancyMap::TLikelihoodOptions::kMaxScale);
+
+  mrpt_ndtom::TRenderOptions render;
+  render.color_min_z = 1;
+  render.loadFromConfigFile(
+      mrpt::config::CConfigFileMemory("[s]\ncolor_min_z = nan\nmin_logodds = -inf\n"
+                                      "colormap = 2 # by number\n"),
+      "s");
+  EXPECT_TRUE(std::isnan(render.color_min_z));
+  EXPECT_EQ(render.min_logodds, -INFINITY);
+  EXPECT_EQ(int(render.colormap), 2);
 }
 
 TEST(IniOptions, ThreadsChangeWithoutRebuildingTheMap) {

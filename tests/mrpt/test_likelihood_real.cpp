@@ -187,3 +187,39 @@ TEST(LikelihoodReal, EmptyMapGivesEqualWeightsAndScaleMultiplies) {
   EXPECT_NEAR(map.computeObservationLikelihood(*frames[0].obs, frames[0].pose), 0.5 * full,
               1e-9 * std::abs(full));
 }
+
+// #38: pf-localization aborted on scale = 1e308, as MRPT asserts that each particle's
+// log-likelihood is finite. At the bound, with the smallest outlier floor there is (every
+// missed point then adds log 4.9e-324 = -744) and every point scored, a real scan's
+// log-likelihood stays finite, within the 1e300 per observation that kMaxScale is derived
+// from, by both methods, at its pose and 50 m away. Past the bound, set in code, it is refused
+// where it is used rather than returned as -inf.
+TEST(LikelihoodReal, ScaleAtItsBoundKeepsLikelihoodsFinite) {
+  using Method = CNDTOccupancyMap::TLikelihoodMethod;
+  const std::vector<CPose3D> poses = ndtom::testing::balmPoses();
+  CNDTOccupancyMap map(0.2);
+  map.insertionOptions.scan.max_range = 30.0;
+  for (int i = 1; i < 10; ++i) ASSERT_TRUE(map.insertObservation(lidarObservation(i), poses[i]));
+  const auto scan = lidarObservation(0);
+  auto& o = map.likelihoodOptions;
+  o.scale = CNDTOccupancyMap::TLikelihoodOptions::kMaxScale;
+  o.outlier_likelihood = std::numeric_limits<double>::denorm_min();
+  o.decimation = 1;
+  for (const Method method : {Method::Points, Method::NdtMcl}) {
+    o.likelihood_method = method;
+    for (const CPose3D& pose : {poses[0], poses[0] + CPose3D(50, 0, 0, 1, 0, 0)}) {
+      const double value = map.computeObservationLikelihood(scan, pose);
+      EXPECT_TRUE(std::isfinite(value)) << int(method) << " " << pose.asString();
+      EXPECT_LT(value, -1e280) << int(method) << " " << pose.asString();
+      EXPECT_GE(value, -1e300) << int(method) << " " << pose.asString();
+    }
+  }
+  o.scale = 1e308;
+  std::string message;
+  try {
+    map.computeObservationLikelihood(scan, poses[0]);
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("scale = 1e+308: must be in (0, 1e+280]"), std::string::npos) << message;
+}

@@ -189,6 +189,25 @@ TEST(MrptPrograms, PfLocalizationEndsWhereMrptsGridDemoEnds) {
   EXPECT_GT(ndtom::loadMap(map_file.string()).numGaussians(), 500u);
 }
 
+// #38: with scale = 1e308 pf-localization accepted the options and then aborted (SIGABRT) on
+// MRPT's assertion that each particle's log-likelihood is finite; now the options are refused
+// as the map is created, in one line naming the section, and the program exits.
+TEST(MrptPrograms, PfLocalizationRefusesAScaleThatWouldAbortIt) {
+  WorkDir dir;
+  std::ofstream(dir.path / "pf.ini")
+      << withValues(readFile(kShare + "/pf-localization_ndtom.ini"), {{"scale", "1e308"}});
+  const int rc =
+      run("timeout 300 " + preload() + "pf-localization pf.ini", dir.path, dir.path / "pf.log");
+  const std::string log = readFile(dir.path / "pf.log");
+  EXPECT_NE(rc, 0) << log;
+  EXPECT_NE(rc, 124) << "timed out: " << log;
+  EXPECT_NE(rc, 128 + SIGABRT) << log;
+  EXPECT_NE(log.find("[MetricMap_ndtOccupancyMap_00_likelihoodOpts] scale = 1e+308: must be in "
+                     "(0, 1e+280]"),
+            std::string::npos)
+      << log;
+}
+
 TEST(MrptPrograms, PfLocalizationTracksLidarScansIn6DofWithNdtMcl) {
 #ifndef NDTOM_RAWLOG_FROM_PCD
   GTEST_SKIP() << "needs ndtom-rawlog-from-pcd (built with the programs)";

@@ -145,11 +145,24 @@ TEST(NdtRegistrationMrpt, OptionsRoundTripThroughIniText) {
   EXPECT_EQ(back.core.threads, o.core.threads);
 
   const std::vector<std::pair<std::string, std::string>> bad = {
-      {"method = icp", "method"},           {"level_factors = 1 2", "level_factors"},
-      {"level_factors = 4 x", "level_factors"}, {"outlier_ratio = 1", "outlier_ratio"},
-      {"max_iterations = 1e3", "max_iterations"}, {"threads = 0", "threads"},
-      {"max_points = 3", "max_points"},     {"min_matched_fraction = 2", "min_matched_fraction"},
+      {"method = icp", "method"},
+      {"level_factors = 1 2", "level_factors"},
+      {"level_factors = 4 x", "level_factors"},
+      {"outlier_ratio = 1", "outlier_ratio"},
+      {"max_iterations = 1e3", "max_iterations"},
+      {"threads = 0", "threads"},
+      {"max_points = 3", "max_points"},
+      {"min_matched_fraction = 2", "min_matched_fraction"},
       {"max_free_fraction = -1", "max_free_fraction"},
+      // #38: MRPT's readers took these as false, 0.2, 2, 3 and 1 without a word.
+      {"planar = maybe", "planar: expected true or false, got 'maybe'"},
+      {"outlier_ratio = 0.2abc", "outlier_ratio: not a number: '0.2abc'"},
+      {"max_iterations = 4294967298", "max_iterations = 4294967298: must be in [1, 1000]"},
+      {"threads = 3x", "threads: not an integer: '3x'"},
+      {"level_factors = 8 4x 1", "level_factors: not an integer: '4x'"},
+      {"translation_epsilon =", "translation_epsilon: not a number: ''"},
+      {"max_range = 40 m", "max_range: not a number: '40 m'"},
+      {"rotation_epsilon = inf", "rotation_epsilon: must be finite, got 'inf'"},
   };
   for (const auto& [body, option] : bad) {
     CNDTRegistration::TConfigParams p;
@@ -157,6 +170,16 @@ TEST(NdtRegistrationMrpt, OptionsRoundTripThroughIniText) {
         [&] { p.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s"); });
     EXPECT_NE(msg.find("[s] " + option), std::string::npos) << body << " -> " << msg;
   }
+  // A comment after the value, an infinite range and a bool in capitals still load.
+  CNDTRegistration::TConfigParams p;
+  p.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\nmax_range = inf # none\n"
+                                                       "level_factors = 4 1 ; coarse, fine\n"
+                                                       "planar = TRUE\nmethod = d2d # scan NDT\n"),
+                       "s");
+  EXPECT_EQ(p.core.max_range, INFINITY);
+  EXPECT_EQ(p.core.level_factors, (std::vector<int>{4, 1}));
+  EXPECT_TRUE(p.core.planar);
+  EXPECT_EQ(p.core.method, ndtom::RegistrationMethod::D2D);
 }
 
 TEST(NdtRegistrationMrpt, CovarianceInMrptsAnglesMatchesFiniteDifferences) {

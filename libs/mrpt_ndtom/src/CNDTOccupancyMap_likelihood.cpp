@@ -19,6 +19,15 @@ bool CNDTOccupancyMap::internal_canComputeObservationLikelihood(
 
 double CNDTOccupancyMap::internal_computeObservationLikelihood(
     const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const {
+  // MRPT's particle filters abort unless this is finite. The unscaled sum is finite (every
+  // term is at least the log of the outlier floor), and kMaxScale keeps it so once scaled; a
+  // scale set in code past it would give -inf, so it is refused here, where it is used.
+  const double scale = likelihoodOptions.scale;
+  if (!(scale > 0 && scale <= TLikelihoodOptions::kMaxScale))
+    THROW_EXCEPTION(
+        mrpt::format("CNDTOccupancyMap::likelihoodOptions: scale = %g: must be in "
+                     "(0, %g]",
+                     scale, TLikelihoodOptions::kMaxScale));
   return likelihoodOptions.likelihood_method == TLikelihoodMethod::NdtMcl
              ? ndtMclLikelihood(obs, takenFrom)
              : pointsLikelihood(obs, takenFrom);

@@ -3,10 +3,8 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include <cctype>
-#include <climits>
 #include <cmath>
-#include <cstdlib>
+#include <optional>
 #include <sstream>
 
 #include "archive_checks.h"
@@ -26,11 +24,8 @@ constexpr int32_t kMaxNdtMclGaussians = 100000;
 // Decimations are read as signed integers so that "-1" is reported, not wrapped.
 uint32_t readDecimation(const mrpt::config::CConfigFileBase& c, const std::string& section,
                         const std::string& name, uint32_t current) {
-  const int value = c.read_int(section, name, int(current));
-  if (value < 1)
-    THROW_EXCEPTION(
-        mrpt::format("[%s] %s = %d: must be >= 1", section.c_str(), name.c_str(), value));
-  return uint32_t(value);
+  return uint32_t(
+      detail::iniInteger(c, section, name, current, 1, TPointExtractionOptions::kMaxDecimation));
 }
 
 // Runs a validation and rethrows its message prefixed with the .ini section.
@@ -64,28 +59,8 @@ namespace {
 // One option of the table from the section, read as its type; a missing key keeps `current`.
 double readOption(const mrpt::config::CConfigFileBase& source, const std::string& section,
                   const ndtom::OptionRow& row, double current) {
-  switch (row.type) {
-    case ndtom::OptionType::Real:
-      return source.read_double(section, row.name, current);
-    case ndtom::OptionType::Integer:
-      return double(detail::readInteger(source, section, row.name, (long long)current,
-                                        (long long)row.bounds.min, (long long)row.bounds.max));
-    case ndtom::OptionType::Bool:
-      return source.read_bool(section, row.name, current != 0) ? 1.0 : 0.0;
-    case ndtom::OptionType::Enum: {
-      // As MRPT's read_enum: the first word, a value's name or its number.
-      const std::string text = source.read_string_first_word(section, row.name, "");
-      if (text.empty()) return current;
-      for (size_t i = 0; i < row.names.size() && row.names[i]; ++i)
-        if (text == row.names[i]) return double(i);
-      char* end = nullptr;
-      const long number = std::strtol(text.c_str(), &end, 10);
-      if (end != text.c_str() && *end == '\0') return double(number);
-      throw std::invalid_argument(std::string(row.name) + " = " + text + ": expected " +
-                                  ndtom::optionChoices(row));
-    }
-  }
-  return current;
+  const std::optional<std::string> text = detail::iniText(source, section, row.name);
+  return text ? ndtom::optionFromText(row, row.name, *text) : current;
 }
 
 std::string commentOf(const ndtom::OptionRow& row) {
@@ -205,21 +180,22 @@ bool CNDTOccupancyMap::TInsertionOptions::operator==(const TInsertionOptions& o)
 
 void CNDTOccupancyMap::TLikelihoodOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& source, const std::string& section) {
-  likelihood_method =
-      source.read_enum<TLikelihoodMethod>(section, "likelihood_method", likelihood_method);
+  using detail::iniInteger;
+  using detail::iniReal;
+  likelihood_method = detail::iniEnum(source, section, "likelihood_method", likelihood_method);
   decimation = readDecimation(source, section, "decimation", decimation);
   decimation_3d_range = readDecimation(source, section, "decimation_3d_range", decimation_3d_range);
-  MRPT_LOAD_CONFIG_VAR(outlier_likelihood, double, source, section);
-  MRPT_LOAD_CONFIG_VAR(search_neighbours, bool, source, section);
-  MRPT_LOAD_CONFIG_VAR(min_range, double, source, section);
-  MRPT_LOAD_CONFIG_VAR(max_range, double, source, section);
-  MRPT_LOAD_CONFIG_VAR(scale, double, source, section);
-  ndt_mcl_scan_factor = int32_t(detail::readInteger(source, section, "ndt_mcl_scan_factor",
-                                                    ndt_mcl_scan_factor, 1, kMaxNdtMclFactor));
-  ndt_mcl_map_factor = int32_t(detail::readInteger(source, section, "ndt_mcl_map_factor",
-                                                   ndt_mcl_map_factor, 1, kMaxNdtMclFactor));
-  ndt_mcl_max_gaussians = int32_t(detail::readInteger(
-      source, section, "ndt_mcl_max_gaussians", ndt_mcl_max_gaussians, 1, kMaxNdtMclGaussians));
+  outlier_likelihood = iniReal(source, section, "outlier_likelihood", outlier_likelihood);
+  search_neighbours = detail::iniBool(source, section, "search_neighbours", search_neighbours);
+  min_range = iniReal(source, section, "min_range", min_range);
+  max_range = iniReal(source, section, "max_range", max_range, ndtom::NonFinite::Infinity);
+  scale = iniReal(source, section, "scale", scale);
+  ndt_mcl_scan_factor = int32_t(
+      iniInteger(source, section, "ndt_mcl_scan_factor", ndt_mcl_scan_factor, 1, kMaxNdtMclFactor));
+  ndt_mcl_map_factor = int32_t(
+      iniInteger(source, section, "ndt_mcl_map_factor", ndt_mcl_map_factor, 1, kMaxNdtMclFactor));
+  ndt_mcl_max_gaussians = int32_t(iniInteger(source, section, "ndt_mcl_max_gaussians",
+                                             ndt_mcl_max_gaussians, 1, kMaxNdtMclGaussians));
   validateSection(section, [this] { validate(); });
 }
 
@@ -236,7 +212,8 @@ void CNDTOccupancyMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfi
                                "Points: best Gaussian of the 27 cells around a point");
   MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Closer points are not used [m]");
   MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Farther points are not used [m] (inf: no limit)");
-  MRPT_SAVE_CONFIG_VAR_COMMENT(scale, "Multiplies the log-likelihood (< 1 flattens weights)");
+  MRPT_SAVE_CONFIG_VAR_COMMENT(scale,
+                               "Multiplies the log-likelihood (< 1 flattens weights), <= 1e280");
   MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_scan_factor, "NdtMcl: scan cell edge in map cells, [1, 64]");
   MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_mcl_map_factor,
                                "NdtMcl: map coarsening scored against, [1, 64] (1: the map)");
@@ -257,8 +234,9 @@ void CNDTOccupancyMap::TLikelihoodOptions::validate() const {
     msg << "min_range = " << min_range << ": must be finite and >= 0";
   else if (!(max_range > min_range))
     msg << "max_range = " << max_range << ": must be > min_range";
-  else if (!(std::isfinite(scale) && scale > 0))
-    msg << "scale = " << scale << ": must be finite and > 0";
+  else if (!(scale > 0 && scale <= kMaxScale))
+    msg << "scale = " << scale << ": must be in (0, " << kMaxScale
+        << "], which keeps a particle filter's log-likelihoods finite";
   else if (likelihood_method != TLikelihoodMethod::Points &&
            likelihood_method != TLikelihoodMethod::NdtMcl)
     msg << "likelihood_method = " << int32_t(likelihood_method) << ": unknown method";

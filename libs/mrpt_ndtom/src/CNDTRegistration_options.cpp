@@ -9,19 +9,12 @@
 namespace mrpt_ndtom {
 namespace {
 
-std::vector<int> parseFactors(const std::string& section, const std::string& text) {
+// "16 8 4 2 1": each word an integer of the core's reader; the order is checked by validate.
+std::vector<int> parseFactors(const std::string& text) {
   std::istringstream in(text);
   std::vector<int> factors;
-  for (std::string item; in >> item;) {
-    if (item[0] == '#' || item[0] == ';') break;
-    char* end = nullptr;
-    const long value = std::strtol(item.c_str(), &end, 10);
-    if (*end != '\0' || value < 1 || value > 1024)
-      THROW_EXCEPTION(mrpt::format("[%s] level_factors = %s: expected integers in [1, 1024], "
-                                   "coarse to fine, e.g. 16 8 4 2 1",
-                                   section.c_str(), text.c_str()));
-    factors.push_back(int(value));
-  }
+  for (std::string item; in >> item;)
+    factors.push_back(int(ndtom::integerFromText("level_factors", item, 1, 1024)));
   return factors;
 }
 
@@ -35,33 +28,29 @@ std::string factorsText(const std::vector<int>& factors) {
 
 void CNDTRegistration::TConfigParams::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& source, const std::string& section) {
+  using detail::iniInteger;
+  using detail::iniReal;
   ndtom::RegistrationOptions& o = core;
-  try {
-    o.method = ndtom::registrationMethodFromString(
-        source.read_string(section, "method", ndtom::toString(o.method)));
-  } catch (const std::invalid_argument& e) {
-    THROW_EXCEPTION(mrpt::format("[%s] %s", section.c_str(), e.what()));
-  }
+  o.method = detail::iniValue(source, section, "method", o.method, [](const std::string& text) {
+    return ndtom::registrationMethodFromString(text);
+  });
   o.level_factors =
-      parseFactors(section, source.read_string(section, "level_factors", factorsText(o.level_factors)));
-  o.outlier_ratio = source.read_double(section, "outlier_ratio", o.outlier_ratio);
-  o.max_iterations =
-      int(detail::readInteger(source, section, "max_iterations", o.max_iterations, 1, 1000));
-  o.translation_epsilon = source.read_double(section, "translation_epsilon", o.translation_epsilon);
-  o.rotation_epsilon = source.read_double(section, "rotation_epsilon", o.rotation_epsilon);
-  o.min_range = source.read_double(section, "min_range", o.min_range);
-  o.max_range = source.read_double(section, "max_range", o.max_range);
-  o.voxel_ratio = source.read_double(section, "voxel_ratio", o.voxel_ratio);
-  o.max_points = size_t(detail::readInteger(source, section, "max_points",
-                                            (long long)o.max_points, 10, 100000000));
-  o.min_matched_fraction =
-      source.read_double(section, "min_matched_fraction", o.min_matched_fraction);
-  o.min_judged_fraction =
-      source.read_double(section, "min_judged_fraction", o.min_judged_fraction);
-  o.max_free_fraction = source.read_double(section, "max_free_fraction", o.max_free_fraction);
-  o.planar = source.read_bool(section, "planar", o.planar);
-  o.threads = int(detail::readInteger(source, section, "threads", o.threads, 1,
-                                      ndtom::ScanOptions::kMaxThreads));
+      detail::iniValue(source, section, "level_factors", o.level_factors, parseFactors);
+  o.outlier_ratio = iniReal(source, section, "outlier_ratio", o.outlier_ratio);
+  o.max_iterations = int(iniInteger(source, section, "max_iterations", o.max_iterations, 1, 1000));
+  o.translation_epsilon = iniReal(source, section, "translation_epsilon", o.translation_epsilon);
+  o.rotation_epsilon = iniReal(source, section, "rotation_epsilon", o.rotation_epsilon);
+  o.min_range = iniReal(source, section, "min_range", o.min_range);
+  o.max_range = iniReal(source, section, "max_range", o.max_range, ndtom::NonFinite::Infinity);
+  o.voxel_ratio = iniReal(source, section, "voxel_ratio", o.voxel_ratio);
+  o.max_points =
+      size_t(iniInteger(source, section, "max_points", (long long)o.max_points, 10, 100000000));
+  o.min_matched_fraction = iniReal(source, section, "min_matched_fraction", o.min_matched_fraction);
+  o.min_judged_fraction = iniReal(source, section, "min_judged_fraction", o.min_judged_fraction);
+  o.max_free_fraction = iniReal(source, section, "max_free_fraction", o.max_free_fraction);
+  o.planar = detail::iniBool(source, section, "planar", o.planar);
+  o.threads =
+      int(iniInteger(source, section, "threads", o.threads, 1, ndtom::ScanOptions::kMaxThreads));
   try {
     ndtom::validate(o);
   } catch (const std::invalid_argument& e) {

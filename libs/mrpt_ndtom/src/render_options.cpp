@@ -28,8 +28,8 @@ void TRenderOptions::validate() const {
     msg << "quantiles = " << quantiles << ": must be finite and > 0";
   else if (subdivisions > kMaxSubdivisions)
     msg << "subdivisions = " << subdivisions << ": must be <= " << kMaxSubdivisions;
-  else if (!(free_cell_point_size > 0))
-    msg << "free_cell_point_size = " << free_cell_point_size << ": must be > 0";
+  else if (!(std::isfinite(free_cell_point_size) && free_cell_point_size > 0))
+    msg << "free_cell_point_size = " << free_cell_point_size << ": must be finite and > 0";
   else if (std::isnan(min_logodds))
     msg << "min_logodds: must not be NaN";
   else if (!isColormap(int32_t(colormap)))
@@ -39,28 +39,34 @@ void TRenderOptions::validate() const {
 
 void TRenderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                         const std::string& section) {
+  using detail::iniBool;
+  using detail::iniInteger;
+  using detail::iniReal;
+  using ndtom::NonFinite;
   TRenderOptions read = *this;  // a bad value leaves the options as they were
-  read.quantiles = source.read_double(section, "quantiles", quantiles);
-  read.subdivisions = uint32_t(
-      detail::readInteger(source, section, "subdivisions", subdivisions, 0, kMaxSubdivisions));
-  read.max_ellipsoids = uint32_t(
-      detail::readInteger(source, section, "max_ellipsoids", max_ellipsoids, 0, UINT32_MAX));
-  read.min_logodds = source.read_double(section, "min_logodds", min_logodds);
-  read.color_min_z = source.read_double(section, "color_min_z", color_min_z);
-  read.color_max_z = source.read_double(section, "color_max_z", color_max_z);
-  read.colormap = source.read_enum<mrpt::img::TColormap>(section, "colormap", colormap);
-  read.show_free_cells = source.read_bool(section, "show_free_cells", show_free_cells);
-  read.max_free_cells = uint32_t(
-      detail::readInteger(source, section, "max_free_cells", max_free_cells, 0, UINT32_MAX));
+  read.quantiles = iniReal(source, section, "quantiles", quantiles);
+  read.subdivisions =
+      uint32_t(iniInteger(source, section, "subdivisions", subdivisions, 0, kMaxSubdivisions));
+  read.max_ellipsoids =
+      uint32_t(iniInteger(source, section, "max_ellipsoids", max_ellipsoids, 0, UINT32_MAX));
+  // -inf draws every cell with a Gaussian; nan picks the colour range from the map.
+  read.min_logodds = iniReal(source, section, "min_logodds", min_logodds, NonFinite::Infinity);
+  read.color_min_z = iniReal(source, section, "color_min_z", color_min_z, NonFinite::Nan);
+  read.color_max_z = iniReal(source, section, "color_max_z", color_max_z, NonFinite::Nan);
+  read.colormap = detail::iniEnum(source, section, "colormap", colormap);
+  read.show_free_cells = iniBool(source, section, "show_free_cells", show_free_cells);
+  read.max_free_cells =
+      uint32_t(iniInteger(source, section, "max_free_cells", max_free_cells, 0, UINT32_MAX));
+  // As a double: a float would turn 1e39 into inf, which validate() then refuses.
   read.free_cell_point_size =
-      source.read_float(section, "free_cell_point_size", free_cell_point_size);
+      float(iniReal(source, section, "free_cell_point_size", free_cell_point_size));
   read.generate_occupied_voxels =
-      source.read_bool(section, "generate_occupied_voxels", generate_occupied_voxels);
+      iniBool(source, section, "generate_occupied_voxels", generate_occupied_voxels);
   read.visible_occupied_voxels =
-      source.read_bool(section, "visible_occupied_voxels", visible_occupied_voxels);
+      iniBool(source, section, "visible_occupied_voxels", visible_occupied_voxels);
   read.generate_free_voxels =
-      source.read_bool(section, "generate_free_voxels", generate_free_voxels);
-  read.visible_free_voxels = source.read_bool(section, "visible_free_voxels", visible_free_voxels);
+      iniBool(source, section, "generate_free_voxels", generate_free_voxels);
+  read.visible_free_voxels = iniBool(source, section, "visible_free_voxels", visible_free_voxels);
   try {
     read.validate();
   } catch (const std::invalid_argument& e) {

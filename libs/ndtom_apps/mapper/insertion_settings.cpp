@@ -5,13 +5,12 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cmath>
 #include <fstream>
 #include <functional>
-#include <limits>
 #include <thread>
 
 #include "ndtom/map/option_table.h"
+#include "ndtom/map/option_text.h"
 #include "ndtom_apps/input_format.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/run_program.h"
@@ -20,9 +19,7 @@ namespace ndtom::mapper {
 namespace {
 
 using apps::oneLineMessage;
-using apps::parseBool;
 using apps::parseInteger;
-using apps::parseReal;
 using apps::trim;
 using apps::UsageError;
 
@@ -37,38 +34,24 @@ struct KeySpec {
 
 Setter count(uint32_t InsertionOptions::*field) {
   return [=](InsertionOptions& o, const std::string& option, const std::string& text) {
-    o.*field = uint32_t(parseInteger(option, text, 1, std::numeric_limits<int32_t>::max()));
+    o.*field = uint32_t(
+        parseInteger(option, text, 1, mrpt_ndtom::TPointExtractionOptions::kMaxDecimation));
   };
 }
 
-// A value of the core's option table, parsed strictly as the row's type and checked at once.
+// A value of the core's option table, parsed as the row's type by the reader the plugin's
+// .ini sections use, and checked at once.
 Setter rowSetter(const ndtom::OptionRow& row) {
   return [&row](InsertionOptions& o, const std::string& option, const std::string& text) {
     double value = 0;
-    switch (row.type) {
-      case ndtom::OptionType::Real:
-        value = parseReal(option, text, row.bounds.contains(INFINITY));
-        break;
-      case ndtom::OptionType::Integer:
-        value =
-            double(parseInteger(option, text, int64_t(row.bounds.min), int64_t(row.bounds.max)));
-        break;
-      case ndtom::OptionType::Bool:
-        value = parseBool(option, text) ? 1 : 0;
-        break;
-      case ndtom::OptionType::Enum:
-        // The names, or their numbers, as MRPT's read_enum and the core understand them.
-        value = -1;
-        for (size_t i = 0; i < row.names.size() && row.names[i]; ++i)
-          if (text == row.names[i] || text == std::to_string(i)) value = double(i);
-        if (value < 0)
-          throw UsageError(option + ": expected " + ndtom::optionChoices(row) + ", got '" + text +
-                           "'");
-        break;
+    try {
+      value = ndtom::optionFromText(row, option, text);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
     }
     try {
       ndtom::checkOptionValue(row, value);
-    } catch (const std::invalid_argument& e) {
+    } catch (const std::invalid_argument& e) {  // names the row: "p_hit = 2: ..."
       throw UsageError(option + ": " + e.what());
     }
     row.set(o, value);
@@ -138,11 +121,6 @@ void checkSection(const mrpt::config::CConfigFileBase& file, const std::string& 
     key = trim(key);
     if (std::find(known.begin(), known.end(), key) == known.end())
       throw UsageError(path + ": [" + section + "] unknown key '" + key + "'");
-    // A strict parse on a scratch copy: the plugin's loader would read "abc" as 0.
-    InsertionOptions scratch;
-    if (const KeySpec* spec = findSpec(key))
-      spec->set(scratch, path + ": [" + section + "] " + key,
-                trim(file.read_string(section, key, "")));
   }
 }
 

@@ -1,42 +1,38 @@
 #include "ndtom_apps/option_values.h"
 
 #include <algorithm>
-#include <cctype>
-#include <cmath>
 #include <sstream>
 
+#include "ndtom/map/option_text.h"
+
 namespace ndtom::apps {
+namespace {
+
+using ndtom::NonFinite;
+
+// The core's reader (ndtom/map/option_text.h), as the MRPT plugin's .ini sections use it:
+// a flag and a configuration file take the same texts.
+template <class F>
+auto asUsage(F&& parse) {
+  try {
+    return parse();
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+}
+
+}  // namespace
 
 double parseReal(const std::string& option, const std::string& text, bool allow_infinity) {
-  size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {  // no number at all, or out of range ("1e999")
-    used = 0;
-  }
-  if (text.empty() || used != text.size() || std::isnan(value))
-    throw UsageError(option + ": not a number: '" + text + "'");
-  if (std::isinf(value) && !allow_infinity)
-    throw UsageError(option + ": must be finite, got '" + text + "'");
-  return value;
+  return asUsage([&] {
+    return ndtom::realFromText(option, text,
+                               allow_infinity ? NonFinite::Infinity : NonFinite::Refused);
+  });
 }
 
 int64_t parseInteger(const std::string& option, const std::string& text, int64_t min_value,
                      int64_t max_value) {
-  size_t used = 0;
-  long long value = 0;
-  try {
-    value = std::stoll(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (text.empty() || used != text.size())
-    throw UsageError(option + ": not an integer: '" + text + "'");
-  if (value < min_value || value > max_value)
-    throw UsageError(option + " = " + text + ": must be in [" + std::to_string(min_value) + ", " +
-                     std::to_string(max_value) + "]");
-  return value;
+  return asUsage([&] { return ndtom::integerFromText(option, text, min_value, max_value); });
 }
 
 std::vector<int> parseLevelFactors(const std::string& option, const std::string& text) {
@@ -58,19 +54,15 @@ std::vector<int64_t> parseIntegerList(const std::string& option, const std::stri
 }
 
 bool parseBool(const std::string& option, const std::string& text) {
-  std::string lower = text;
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  if (lower == "true" || lower == "yes" || lower == "1") return true;
-  if (lower == "false" || lower == "no" || lower == "0") return false;
-  throw UsageError(option + ": expected true or false, got '" + text + "'");
+  return asUsage([&] { return ndtom::boolFromText(option, text); });
 }
 
 std::vector<std::string> splitList(const std::string& text) {
   std::vector<std::string> items;
   std::stringstream s(text);
+  // Trimmed: "1, 2" is two items, as it was when the parsers skipped leading blanks.
   for (std::string item; std::getline(s, item, ',');)
-    if (!item.empty()) items.push_back(item);
+    if (!(item = trim(item)).empty()) items.push_back(item);
   return items;
 }
 

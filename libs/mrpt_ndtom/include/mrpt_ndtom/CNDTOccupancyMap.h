@@ -112,8 +112,15 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
     bool search_neighbours{true};
     double min_range{0.0};  ///< Closer points are not used (Default: 0 m)
     double max_range{std::numeric_limits<double>::infinity()};  ///< (Default: inf)
-    /// Multiplies the summed log-likelihood: < 1 flattens particle weights (Default: 1)
+    /// Multiplies the summed log-likelihood: < 1 flattens particle weights, in
+    /// (0, kMaxScale] (Default: 1)
     double scale{1.0};
+    /// The largest scale: MRPT's particle filters assert that each observation's
+    /// log-likelihood is finite, and sum those of a frame's observations and of a multi-map's
+    /// maps first. A point's or scan Gaussian's log-likelihood is at least log of the smallest
+    /// double, −745; with up to 10^12 of them in an observation, scale · 7.5·10^14 ≤ 10^300
+    /// leaves 10^8 such terms below the largest double (1.8·10^308).
+    static constexpr double kMaxScale = 1e280;
     /// NdtMcl: edge of the scan's cells, in map cells, in [1, 64] (Default: 2)
     int32_t ndt_mcl_scan_factor{2};
     /// NdtMcl: the map's exact coarsening the scan is scored against, in map cells, in

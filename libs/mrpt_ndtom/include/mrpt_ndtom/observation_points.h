@@ -24,6 +24,9 @@ struct TPointExtractionOptions {
   uint32_t decimation = 1;
   /// Depth images: use every N-th row and column (Default: 1, every pixel).
   uint32_t decimation_3d_range = 1;
+  /// The largest decimation .ini files and flags take: the int range of MRPT's read_int,
+  /// which read them before, so that no file that loaded fails now for its size.
+  static constexpr uint32_t kMaxDecimation = 2147483647;
 };
 
 struct ObservationPoints {

@@ -30,8 +30,9 @@ struct InsertionSettings {
   std::vector<std::pair<std::string, std::string>> overrides;
 };
 
-/// Defaults, then the file's section (every value checked strictly, then loaded through
-/// TInsertionOptions::loadFromConfigFile), then the overrides; the result is validated.
+/// Defaults, then the file's section (no key the plugin does not save; the values read by
+/// TInsertionOptions::loadFromConfigFile, whose reader the overrides share), then the
+/// overrides; the result is validated.
 /// Throws apps::UsageError with a one-line message naming the file, key or option.
 InsertionOptions resolveInsertionOptions(const InsertionSettings& settings);
 

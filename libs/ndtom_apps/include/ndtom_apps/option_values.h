@@ -1,6 +1,6 @@
 // Strict parsing of option values, from the command line or a configuration file: the whole
-// text must be the value, or UsageError names the option and the text. (std::atof and MRPT's
-// own .ini readers turn "abc" into 0 and "0.3x" into 0.3 without a word.)
+// text must be the value, or UsageError names the option and the text. The core's reader
+// (ndtom/map/option_text.h), which the MRPT plugin's .ini sections use too, does the parsing.
 #pragma once
 
 #include <cstdint>
@@ -29,10 +29,10 @@ std::vector<int64_t> parseIntegerList(const std::string& option, const std::stri
 /// Registration pyramid levels ("16,8,4,2,1"), each in [1, 1024], as multiples of the map's
 /// cell; their order is checked with the registration's options.
 std::vector<int> parseLevelFactors(const std::string& option, const std::string& text);
-/// true/yes/1 or false/no/0, any case (the words MRPT's read_bool understands alike).
+/// true/yes/1 or false/no/0, any case, as the MRPT plugin reads its .ini files.
 bool parseBool(const std::string& option, const std::string& text);
 
-/// The items of a comma-separated list, empty ones left out ("0.1,,0.2," has two).
+/// The items of a comma-separated list, trimmed, empty ones left out ("0.1,, 0.2," has two).
 std::vector<std::string> splitList(const std::string& text);
 
 /// `text` without leading and trailing blanks.
