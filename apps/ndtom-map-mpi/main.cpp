@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "ndtom/map/memory_budget.h"
 #include "ndtom/scale/distributed_insert.h"
 #include "map_gather.h"
 #include "mpi_count_exchange.h"
@@ -98,18 +99,37 @@ struct ScanLoop {
   RankFigures figures;
 };
 
+// The core names its option memory_budget; here it is --memory-budget, in MB (ndtom-map's
+// wording).
+std::string budgetMessage(const ndtom::MemoryBudgetError& e) {
+  std::string what = e.what();
+  const std::string core = "(memory_budget)";
+  const size_t at = what.rfind(core);
+  if (at != std::string::npos) what.replace(at, core.size(), "(--memory-budget, in MB)");
+  return what;
+}
+
 // One scan into this process's tiles: a share of its rays walked whole, counts traded with the
-// other processes (--ray-share rays), or every ray's stretches through its own tiles.
+// other processes (--ray-share rays), or every ray's stretches through its own tiles. Errors
+// name the scan: `index` (from 0, in the input's order), its name and the input.
 ndtom::InsertionReport insertIntoOwnTiles(ndtom::NdtMap& part, const apps::Scan& scan,
+                                          size_t index, const std::string& input,
                                           const ndtom::ScanOptions& insert,
                                           const ndtom::TileOwnership& owned, RayShare share,
                                           MpiCountExchange& exchange) {
+  const auto where = [&] {
+    return "scan " + std::to_string(index) + " (" + scan.name + ") in " + input + ": ";
+  };
   try {
     return share == RayShare::Rays
                ? ndtom::insertScanPart(part, scan.points_world, scan.sensor_origin, insert, owned, exchange)
                : ndtom::insertScanPart(part, scan.points_world, scan.sensor_origin, insert, owned);
   } catch (const std::invalid_argument& e) {
-    throw apps::InputError(scan.name + ": " + e.what());
+    throw apps::InputError(where() + e.what());
+  } catch (const ndtom::MemoryBudgetError& e) {
+    throw apps::InputError(where() + budgetMessage(e));
+  } catch (const std::runtime_error& e) {  // another process failed on this scan
+    throw apps::InputError(where() + e.what());
   }
 }
 
@@ -134,7 +154,8 @@ ScanLoop insertScans(const MpiOptions& mo, const InsertionOptions& insertion, Sc
     points_read += scan->points_world.size();
     if (gate.accept(sensor_pose)) {
       const auto t = Clock::now();
-      loop.points += insertIntoOwnTiles(loop.part, *scan, insert, owned, mo.ray_share, exchange);
+      loop.points += insertIntoOwnTiles(loop.part, *scan, loop.scans - 1, mo.map.input, insert,
+                                        owned, mo.ray_share, exchange);
       loop.figures.insert_s += apps::secondsSince(t);
       loop.sensor_path.push_back(scan->sensor_origin);
     }

@@ -8,8 +8,9 @@
 namespace ndtom::mapper {
 namespace {
 
-// What a scan is besides its points, as doubles: origin, frame pose (4x4), time, point count.
-constexpr int kHeader = 3 + 16 + 1 + 1;
+// What a scan is besides its points, as doubles: origin, frame pose (4x4), time, point count,
+// the length of its name (sent next, so that every process's messages name the file).
+constexpr int kHeader = 3 + 16 + 1 + 1 + 1;
 
 void broadcast(void* data, uint64_t bytes, MPI_Comm comm) {
   auto* p = static_cast<char*>(data);
@@ -41,6 +42,7 @@ std::optional<apps::Scan> ScanFeed::next() {
     Eigen::Map<Eigen::Matrix4d>(header.data() + 3) = scan->frame_pose.matrix();
     header[19] = scan->time;
     header[20] = double(scan->points_world.size());
+    header[21] = double(scan->name.size());
   }
   MPI_Bcast(header.data(), kHeader, MPI_DOUBLE, 0, comm_);
   if (rank_ != 0) {
@@ -49,11 +51,12 @@ std::optional<apps::Scan> ScanFeed::next() {
     scan->frame_pose.matrix() = Eigen::Map<const Eigen::Matrix4d>(header.data() + 3);
     scan->time = header[19];
     scan->points_world.resize(size_t(header[20]));
-    scan->name = "scan at " + std::to_string(scan->time) + " s";
+    scan->name.resize(size_t(header[21]));
   }
+  broadcast(scan->name.data(), scan->name.size(), comm_);
   const uint64_t bytes = scan->points_world.size() * sizeof(Eigen::Vector3d);
   broadcast(scan->points_world.data(), bytes, comm_);
-  bytes_ += bytes + sizeof(header) + sizeof(more);
+  bytes_ += bytes + scan->name.size() + sizeof(header) + sizeof(more);
   return scan;
 }
 

@@ -30,17 +30,25 @@ SpillFolder::SpillFolder(const std::string& prefix, const std::string& dir) {
   const fs::path parent = !dir.empty()                    ? fs::path(dir)
                           : base.parent_path().empty() ? fs::path(".")
                                                        : base.parent_path();
-  const std::string stem = base.filename().string();
+  // Checked before the work starts: the folder (created if missing), then a new folder in it.
+  const std::string option = dir.empty() ? "-o " + prefix : "--spill-dir " + dir;
+  const auto refuse = [&](const std::string& why) {
+    throw apps::UsageError(option + ": not a writable folder (" + why + ")");
+  };
   std::error_code ec;
+  if (!fs::exists(parent, ec)) {
+    fs::create_directories(parent, ec);
+    if (ec) refuse("cannot create it: " + ec.message());
+  }
+  if (!fs::is_directory(parent, ec)) refuse("a file");
+  const std::string stem = base.filename().string();
   for (const auto& entry : fs::directory_iterator(parent, ec))
     if (leftByDeadRun(entry.path().filename().string(), stem)) fs::remove_all(entry.path(), ec);
   path_ = (parent / (stem + kTag + std::to_string(::getpid()))).string();
   fs::remove_all(path_, ec);  // a killed run's with the same pid
-  fs::create_directories(path_, ec);
-  if (!fs::is_directory(path_, ec))
-    throw apps::UsageError((dir.empty() ? "-o " + prefix : "--spill-dir " + dir) +
-                           ": cannot create the spill folder " + path_ +
-                           (ec ? " (" + ec.message() + ")" : ""));
+  if (!fs::create_directory(path_, ec))
+    refuse("cannot create the spill folder " + path_ + " in it: " +
+           (ec ? ec.message() : std::string("it exists")));
 }
 
 SpillFolder::~SpillFolder() {

@@ -9,7 +9,8 @@ namespace ndtom::mapper {
 
 class SpillFolder {
  public:
-  /// `dir` empty: PREFIX's folder. Throws apps::UsageError if the folder cannot be created.
+  /// `dir` empty: PREFIX's folder (created if missing). Throws apps::UsageError naming the
+  /// option and the folder if it is a file, cannot be created or is not writable.
   SpillFolder(const std::string& prefix, const std::string& dir);
   ~SpillFolder();
   SpillFolder(const SpillFolder&) = delete;

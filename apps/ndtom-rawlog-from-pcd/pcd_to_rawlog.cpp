@@ -1,6 +1,6 @@
 #include "pcd_to_rawlog.h"
 
-#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/io/CStream.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -9,7 +9,9 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -38,6 +40,35 @@ void checkRange(const char* option, const ScanRange& r, size_t scans, const std:
                            std::to_string(r.last) + ": " + folder + " has scans 0 to " +
                            std::to_string(scans - 1));
 }
+
+// MRPT's archives into a file written through ndtom's sink (which names the file and why a
+// write failed). MRPT turns a failed write into "Cannot write bytes to stream!", naming
+// nothing: the sink's message is kept here for the caller to report.
+class SinkStream : public mrpt::io::CStream {
+ public:
+  explicit SinkStream(const ndtom::FileSink& sink) : sink_(sink) {}
+  size_t Read(void*, size_t) override { throw std::logic_error("SinkStream: write only"); }
+  size_t Write(const void* data, size_t size) override {
+    if (!error_.empty()) return 0;
+    try {
+      sink_(data, size);
+    } catch (const std::exception& e) {
+      error_ = e.what();
+      return 0;
+    }
+    written_ += size;
+    return size;
+  }
+  uint64_t Seek(int64_t, TSeekOrigin) override { throw std::logic_error("SinkStream: no seek"); }
+  uint64_t getTotalBytesCount() const override { return written_; }
+  uint64_t getPosition() const override { return written_; }
+  const std::string& error() const { return error_; }  ///< empty while writes succeed
+
+ private:
+  const ndtom::FileSink& sink_;
+  uint64_t written_ = 0;
+  std::string error_;
+};
 
 }  // namespace
 
@@ -92,10 +123,6 @@ ConversionReport convertFolder(const RawlogOptions& o, apps::Progress& progress)
       apps::readScanTimes((fs::path(o.folder) / "times.txt").string(), scans);
 
   apps::OutputFiles out(o.prefix);
-  mrpt::io::CFileOutputStream rawlog_file;
-  if (!rawlog_file.open(out.stage("rawlog", ".rawlog")))
-    throw std::runtime_error(o.prefix + ".rawlog: cannot write");
-  auto rawlog = mrpt::serialization::archiveFrom(rawlog_file);
   std::string ground_truth =
       "# time x y z yaw pitch roll (s, m, rad): the scans' reference poses\n";
   mrpt::maps::CSimpleMap simplemap;
@@ -104,39 +131,52 @@ ConversionReport convertFolder(const RawlogOptions& o, apps::Progress& progress)
   std::mt19937_64 rng(o.noise.seed);
   std::optional<mrpt::poses::CPose3D> previous;
   progress.start("reading", needed);
-  for (size_t i = 0; i < needed; ++i) {
-    const std::optional<apps::Scan> scan = source->next();
-    if (!scan) throw InputError(o.folder + ": fewer scans than listed");
-    const mrpt::poses::CPose3D pose = toPose(scan->frame_pose);
-    const auto obs = pointCloudObservation(apps::pointsInFrame(*scan), times[i]);
-    if (log.contains(i)) {
-      const mrpt::poses::CPose3D increment = previous ? pose - *previous : mrpt::poses::CPose3D();
-      mrpt::obs::CActionCollection actions;
-      actions.insert(odometryAction(increment, o.noise, rng, times[i]));
-      mrpt::obs::CSensoryFrame frame;
-      frame.insert(obs);
-      rawlog << actions << frame;
-      previous = pose;
-      char line[200];
-      std::snprintf(line, sizeof(line), "%.6f %.6f %.6f %.6f %.9f %.9f %.9f\n", times[i], pose.x(),
-                    pose.y(), pose.z(), pose.yaw(), pose.pitch(), pose.roll());
-      ground_truth += line;
-      ++report.log_scans;
-      report.log_points += obs->pointcloud->size();
+  // The rawlog is written as the scans are read; a failed write (a full disk) names the
+  // output and why, and leaves no temporary.
+  out.write("rawlog", ".rawlog", [&](const ndtom::FileSink& sink) {
+    SinkStream rawlog_file(sink);
+    auto rawlog = mrpt::serialization::archiveFrom(rawlog_file);
+    for (size_t i = 0; i < needed; ++i) {
+      const std::optional<apps::Scan> scan = source->next();
+      if (!scan) throw InputError(o.folder + ": fewer scans than listed");
+      const mrpt::poses::CPose3D pose = toPose(scan->frame_pose);
+      const auto obs = pointCloudObservation(apps::pointsInFrame(*scan), times[i]);
+      if (log.contains(i)) {
+        const mrpt::poses::CPose3D increment = previous ? pose - *previous : mrpt::poses::CPose3D();
+        mrpt::obs::CActionCollection actions;
+        actions.insert(odometryAction(increment, o.noise, rng, times[i]));
+        mrpt::obs::CSensoryFrame frame;
+        frame.insert(obs);
+        try {
+          rawlog << actions << frame;
+        } catch (const std::exception&) {
+          if (rawlog_file.error().empty()) throw;
+          throw std::runtime_error(o.prefix + ".rawlog: writing scan " + std::to_string(i) +
+                                   " failed: " + rawlog_file.error());
+        }
+        previous = pose;
+        char line[200];
+        std::snprintf(line, sizeof(line), "%.6f %.6f %.6f %.6f %.9f %.9f %.9f\n", times[i], pose.x(),
+                      pose.y(), pose.z(), pose.yaw(), pose.pitch(), pose.roll());
+        ground_truth += line;
+        ++report.log_scans;
+        report.log_points += obs->pointcloud->size();
+      }
+      if (o.map_scans && o.map_scans->contains(i)) {
+        auto frame = mrpt::obs::CSensoryFrame::Create();
+        frame->insert(obs);
+        simplemap.insert(mrpt::poses::CPose3DPDFGaussian::Create(pose), frame);
+        ++report.map_scans;
+        report.map_points += obs->pointcloud->size();
+      }
+      progress.update(i + 1, report.log_points + report.map_points);
     }
-    if (o.map_scans && o.map_scans->contains(i)) {
-      auto frame = mrpt::obs::CSensoryFrame::Create();
-      frame->insert(obs);
-      simplemap.insert(mrpt::poses::CPose3DPDFGaussian::Create(pose), frame);
-      ++report.map_scans;
-      report.map_points += obs->pointcloud->size();
-    }
-    progress.update(i + 1, report.log_points + report.map_points);
-  }
-  rawlog_file.close();
+  });
   out.writeBytes("ground truth", ".gt.txt", ground_truth);
+  errno = 0;
   if (o.map_scans && !simplemap.saveToFile(out.stage("simplemap", ".simplemap")))
-    throw std::runtime_error(o.prefix + ".simplemap: cannot write");
+    throw std::runtime_error(o.prefix + ".simplemap: cannot write" +
+                             (errno ? std::string(": ") + std::strerror(errno) : std::string()));
   out.commit();
   for (const auto& f : out.files()) report.files.push_back(f.path);
   return report;

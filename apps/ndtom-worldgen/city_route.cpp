@@ -48,73 +48,92 @@ std::vector<Eigen::Vector2i> crossingsFor(const CityLayout& l, double length, ui
   return crossings;
 }
 
-struct PathPoint {
-  Eigen::Vector2d position;
-  double yaw;
-};
-
-// The centre lines through the crossings, each turn a quarter circle (a U-turn at a dead end
-// is left sharp), sampled every `spacing` metres of arc length.
-std::vector<PathPoint> smoothPath(const std::vector<Eigen::Vector2i>& crossings, double pitch,
-                                  double spacing) {
-  std::vector<PathPoint> out;
-  double carried = 0;  // arc length into the next piece where the next sample falls
-  const auto line = [&](Eigen::Vector2d a, Eigen::Vector2d b) {
-    const double length = (b - a).norm();
-    const double yaw = std::atan2(b.y() - a.y(), b.x() - a.x());
-    double s = carried;
-    for (; s < length; s += spacing) out.push_back({a + (b - a) * (s / length), yaw});
-    carried = s - length;
-  };
-  const auto arc = [&](Eigen::Vector2d centre, double start_angle, double turn) {
-    const double length = std::abs(turn) * kTurnRadius;
-    double s = carried;
-    for (; s < length; s += spacing) {
-      const double angle = start_angle + turn * (s / length);
-      out.push_back({centre + kTurnRadius * Eigen::Vector2d(std::cos(angle), std::sin(angle)),
-                     angle + (turn > 0 ? M_PI / 2 : -M_PI / 2)});
-    }
-    carried = s - length;
-  };
-  Eigen::Vector2d from = crossings[0].cast<double>() * pitch;
-  for (size_t i = 1; i + 1 < crossings.size(); ++i) {
-    const Eigen::Vector2d corner = crossings[i].cast<double>() * pitch;
-    const Eigen::Vector2d in = (corner - crossings[i - 1].cast<double>() * pitch).normalized();
-    const Eigen::Vector2d out_dir = (crossings[i + 1].cast<double>() * pitch - corner).normalized();
-    const double cross = in.x() * out_dir.y() - in.y() * out_dir.x();
-    if (std::abs(cross) < 0.5) {  // straight on, or back
-      line(from, corner);
-      from = corner;
-      continue;
-    }
-    const Eigen::Vector2d enter = corner - kTurnRadius * in, leave = corner + kTurnRadius * out_dir;
-    line(from, enter);
-    const Eigen::Vector2d centre = enter + kTurnRadius * (cross > 0 ? Eigen::Vector2d(-in.y(), in.x())
-                                                                   : Eigen::Vector2d(in.y(), -in.x()));
-    const Eigen::Vector2d radial = enter - centre;
-    arc(centre, std::atan2(radial.y(), radial.x()), cross > 0 ? M_PI / 2 : -M_PI / 2);
-    from = leave;
-  }
-  return out;
-}
-
 }  // namespace
 
-std::vector<Eigen::Isometry3d> driveThrough(const CityWorld& city, const RouteSettings& r) {
-  if (!(r.length > 0) || !(r.step > 0) || !(r.length / r.step < 1e7))
-    throw std::invalid_argument("route: length and step must be positive, at most 1e7 steps");
+uint64_t routeScans(double length, double step) {
+  const double scans = std::floor(length / step) + 1;
+  return scans < 1.8e19 ? uint64_t(scans) : UINT64_MAX;
+}
+
+uint64_t routeBytes(const CityLayout& city, const RouteSettings& route) {
+  // Crossings: 1.1 × length / pitch + 3, 8 bytes each, twice while their vector grows; the
+  // streets driven: a map node (~64 bytes) for each crossing at most.
+  const double crossings = 1.1 * route.length / city.block_pitch + 3;
+  const double bytes = crossings * (2 * sizeof(Eigen::Vector2i) + 64);
+  return bytes < 1.8e19 ? uint64_t(bytes) : UINT64_MAX;
+}
+
+Drive::Drive(const CityWorld& city, const RouteSettings& r) : route_(r) {
+  if (!(r.length > 0) || !(r.step > 0) || routeScans(r.length, r.step) > kMaxRouteScans)
+    throw std::invalid_argument("route: length and step must be positive, at most " +
+                                std::to_string(kMaxRouteScans) + " scans");
   const CityLayout& l = city.layout();
   if (r.margin < 0 || 2 * r.margin >= std::min(l.blocks_x, l.blocks_y))
     throw std::invalid_argument("route: the margin must leave at least one block inside");
-  const auto path = smoothPath(crossingsFor(l, r.length, r.seed, r.margin), l.block_pitch, r.step);
-  const size_t count = size_t(std::floor(r.length / r.step)) + 1;
-  std::vector<Eigen::Isometry3d> poses;
-  for (size_t i = 0; i < count && i < path.size(); ++i) {
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = Eigen::AngleAxisd(path[i].yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    pose.translation() = Eigen::Vector3d(path[i].position.x(), path[i].position.y(), r.sensor_height);
-    poses.push_back(pose);
+  pitch_ = l.block_pitch;
+  crossings_ = crossingsFor(l, r.length, r.seed, r.margin);
+  from_ = crossings_[0].cast<double>() * pitch_;
+  count_ = routeScans(r.length, r.step);
+}
+
+void Drive::line(Eigen::Vector2d a, Eigen::Vector2d b) {
+  const double length = (b - a).norm();
+  const double yaw = std::atan2(b.y() - a.y(), b.x() - a.x());
+  double s = carried_;
+  for (; s < length; s += route_.step) samples_.push_back({a + (b - a) * (s / length), yaw});
+  carried_ = s - length;
+}
+
+void Drive::arc(Eigen::Vector2d centre, double start_angle, double turn) {
+  const double length = std::abs(turn) * kTurnRadius;
+  double s = carried_;
+  for (; s < length; s += route_.step) {
+    const double angle = start_angle + turn * (s / length);
+    samples_.push_back({centre + kTurnRadius * Eigen::Vector2d(std::cos(angle), std::sin(angle)),
+                        angle + (turn > 0 ? M_PI / 2 : -M_PI / 2)});
   }
+  carried_ = s - length;
+}
+
+// The centre lines through the crossings, each turn a quarter circle (a U-turn at a dead end
+// is left sharp), sampled every step metres of arc length: one corner's pieces at a time.
+void Drive::samplePiece() {
+  const size_t i = corner_++;
+  const Eigen::Vector2d corner = crossings_[i].cast<double>() * pitch_;
+  const Eigen::Vector2d in = (corner - crossings_[i - 1].cast<double>() * pitch_).normalized();
+  const Eigen::Vector2d out_dir = (crossings_[i + 1].cast<double>() * pitch_ - corner).normalized();
+  const double cross = in.x() * out_dir.y() - in.y() * out_dir.x();
+  if (std::abs(cross) < 0.5) {  // straight on, or back
+    line(from_, corner);
+    from_ = corner;
+    return;
+  }
+  const Eigen::Vector2d enter = corner - kTurnRadius * in, leave = corner + kTurnRadius * out_dir;
+  line(from_, enter);
+  const Eigen::Vector2d centre = enter + kTurnRadius * (cross > 0 ? Eigen::Vector2d(-in.y(), in.x())
+                                                                 : Eigen::Vector2d(in.y(), -in.x()));
+  const Eigen::Vector2d radial = enter - centre;
+  arc(centre, std::atan2(radial.y(), radial.x()), cross > 0 ? M_PI / 2 : -M_PI / 2);
+  from_ = leave;
+}
+
+bool Drive::next(Eigen::Isometry3d& pose) {
+  if (given_ >= count_) return false;
+  while (samples_.empty() && corner_ + 1 < crossings_.size()) samplePiece();
+  if (samples_.empty()) return false;
+  const PathPoint p = samples_.front();
+  samples_.pop_front();
+  ++given_;
+  pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(p.position.x(), p.position.y(), route_.sensor_height);
+  return true;
+}
+
+std::vector<Eigen::Isometry3d> driveThrough(const CityWorld& city, const RouteSettings& r) {
+  Drive drive(city, r);
+  std::vector<Eigen::Isometry3d> poses;
+  for (Eigen::Isometry3d pose; drive.next(pose);) poses.push_back(pose);
   return poses;
 }
 

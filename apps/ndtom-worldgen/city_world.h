@@ -3,7 +3,8 @@
 // or a small park with trees, and along the curbs poles and parked cars. Deterministic: the
 // same seed and size give the same world on any machine. Rays are cast against it exactly
 // (boxes and the ground plane), through a 2D grid of the boxes so that a city of any size
-// costs the same per ray.
+// costs the same per ray. Its memory grows with the blocks (estimatedBytes()): a few kB a
+// block, and 4 bytes for each 8 m grid cell.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,6 +30,12 @@ class CityWorld {
   /// Throws std::invalid_argument for sizes that leave no room for blocks.
   explicit CityWorld(const CityLayout& layout);
 
+  /// What a city of `layout` will hold in memory at most while it is built (its boxes, the
+  /// grid and their growth), in bytes: for refusing a city too large before building it.
+  static uint64_t estimatedBytes(const CityLayout& layout);
+  /// The bytes the city holds once built.
+  uint64_t memoryBytes() const;
+
   const CityLayout& layout() const { return layout_; }
   const std::vector<Box>& boxes() const { return boxes_; }
 
@@ -40,8 +47,18 @@ class CityWorld {
   bool isInside(const Eigen::Vector3d& p) const;
 
  private:
+  struct CellRange {
+    int x0, y0, x1, y1;  ///< grid cells a box's footprint overlaps, inclusive
+  };
+  struct BoxList {
+    const uint32_t *first, *last;
+    const uint32_t* begin() const { return first; }
+    const uint32_t* end() const { return last; }
+  };
   void addBox(const Box& box);
-  const std::vector<uint32_t>& cellBoxes(int cx, int cy) const;
+  CellRange cellsUnder(const Box& box) const;
+  void buildGrid();
+  BoxList cellBoxes(int cx, int cy) const;
 
   CityLayout layout_;
   std::vector<Box> boxes_;
@@ -49,7 +66,8 @@ class CityWorld {
   static constexpr double kCell = 8.0;
   Eigen::Vector2d grid_origin_;
   int cells_x_ = 0, cells_y_ = 0;
-  std::vector<std::vector<uint32_t>> cells_;
+  // Boxes of cell c (y * cells_x_ + x): cell_boxes_[cell_start_[c] .. cell_start_[c + 1]).
+  std::vector<uint32_t> cell_start_, cell_boxes_;
 };
 
 /// Where a ray (origin o, inverse direction) enters `box`, within [0, t_max], or nothing.

@@ -1,7 +1,11 @@
 // ndtom-map --resident-budget on a drive through the procedural city: the tiled map is the
 // one the in-memory run writes, byte for byte, and the resident map stays within the budget
 // plus the tiles one scan reaches (computed here from the scans and the in-memory map).
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <fstream>
 
 #include "mapper_run.h"
 #include "ndtom/files/map_io.h"
@@ -141,6 +145,48 @@ TEST(MapperOutOfCore, BadValuesAreRefusedClearly) {
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_NE(run.err.find("only with --resident-budget"), std::string::npos) << run.err;
   EXPECT_TRUE(outputsOf(dir, "m").empty());
+}
+
+// Issue #38, class 6: a --spill-dir that cannot hold the spill folder (a file, a path under
+// a file, a read-only folder) is refused before the work starts, exit 2, with a message
+// that names the option and the folder and says it is not writable (a read-only folder
+// said "No such file or directory"). Root writes into read-only folders: as root that case
+// is left out, and said so; the file cases fail for root too.
+TEST(MapperOutOfCore, ASpillDirThatIsNotAWritableFolderIsRefusedNamingIt) {
+  const TempDir dir;
+  const std::string out = " -o " + quoted((dir / "m").string());
+  const std::string common = quoted(kLidar) + out + " --resolution 0.4 --max-scans 2 --no-pictures -q --resident-budget 10";
+  const fs::path file = dir / "a_file";
+  std::ofstream(file) << "not a folder";
+  std::vector<std::pair<fs::path, std::string>> cases = {
+      {file, "not a writable folder (a file)"},
+      {file / "sub", "not a writable folder (cannot create it: " + std::string(std::strerror(ENOTDIR))},
+  };
+  const fs::path read_only = dir / "read_only";
+  fs::create_directories(read_only);
+  ::chmod(read_only.c_str(), 0555);
+  if (::geteuid() != 0)
+    cases.push_back({read_only, "not a writable folder (cannot create the spill folder " +
+                                    (read_only / "m.spill-").string()});
+  else
+    std::printf("as root: a read-only --spill-dir is writable, that case is left out\n");
+  for (const auto& [spill, message] : cases) {
+    SCOPED_TRACE(spill.string());
+    const ProgramRun run = runMapper(common + " --spill-dir " + quoted(spill.string()), dir);
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find("--spill-dir " + spill.string() + ": " + message), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("No such file or directory"), std::string::npos) << run.err;
+  }
+  ::chmod(read_only.c_str(), 0755);
+  EXPECT_TRUE(outputsOf(dir, "m").empty());
+  // A folder that does not exist yet is created; the run writes its map and removes its
+  // spill folder.
+  const fs::path fresh = dir / "new" / "spill";
+  const ProgramRun run = runMapper(common + " --spill-dir " + quoted(fresh.string()), dir);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(fs::exists(dir / "m.ndtomtiles"));
+  EXPECT_TRUE(fs::is_directory(fresh));
+  EXPECT_TRUE(fs::is_empty(fresh));
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // ndtom-map-mpi on the shipped lidar scans: its map files are ndtom-map's byte for byte for
 // 1, 2 and 4 processes (more processes than cores: --oversubscribe), for either way of sharing
 // the scans, either way of sharing the rays and either ray mode; the processes' parts are disjoint
-// and cover the map; a bad command line is refused once, by every process, without hanging.
+// and cover the map; a bad command line is refused once, by every process, without hanging; a
+// scan over the memory budget is named, as ndtom-map names it.
 #include <cstdlib>
 
 #include "mapper/mapper_run.h"
@@ -112,4 +113,36 @@ TEST(MapMpi, BadCommandLinesAreRefusedByEveryProcessWithoutHanging) {
   EXPECT_NE(missing.exit_code, 124) << "timed out";
   EXPECT_NE(missing.err.find("nothing"), std::string::npos) << missing.err;
   EXPECT_FALSE(fs::exists(dir / "m.ndtom"));
+}
+
+// Issue #38, class 6: a scan that takes a process's part of the map over the memory budget
+// stops the run (exit 1) with a message naming the scan (its index and file), the input and
+// the option, as ndtom-map's does; whichever process hits it, and however the scans are shared.
+TEST(MapMpi, AScanOverTheMemoryBudgetIsNamed) {
+  TempDir dir;
+  // 16 MB holds the first scans, not all ten.
+  const std::string args = quoted(kLidar) + " -o " + quoted((dir / "m").string()) + kMapOptions +
+                           " --memory-budget 16";
+  for (const auto& [processes, input] : {std::pair<int, std::string>{1, "each"}, {2, "broadcast"}}) {
+    SCOPED_TRACE(std::to_string(processes) + " processes, scan input " + input);
+    const ProgramRun run = runMpi(processes, args + " --scan-input " + input, dir);
+    EXPECT_EQ(run.exit_code, 1) << run.err;
+    EXPECT_NE(run.err.find("over the memory budget of 16."), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find(" MB (--memory-budget, in MB)"), std::string::npos) << run.err;
+    bool named = false;
+    for (int i = 0; i < 10; ++i)
+      named = named || run.err.find("scan " + std::to_string(i) + " (full" + std::to_string(i) +
+                                    ".pcd) in " + kLidar + ": ") != std::string::npos;
+    EXPECT_TRUE(named) << run.err;
+    // Every process's message names the scan (one that stopped as another failed, too).
+    for (size_t at = 0; (at = run.err.find("ndtom-map-mpi: ", at)) != std::string::npos; ++at)
+      EXPECT_EQ(run.err.compare(at + 15, 5, "scan "), 0) << run.err.substr(at, 200);
+    EXPECT_FALSE(fs::exists(dir / "m.ndtom"));
+  }
+  // With a budget that holds the map, the same run writes it.
+  const ProgramRun run = runMpi(2, quoted(kLidar) + " -o " + quoted((dir / "m").string()) +
+                                       kMapOptions + " --memory-budget 200 --scan-input broadcast",
+                                dir);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(fs::exists(dir / "m.ndtom"));
 }

@@ -1,9 +1,13 @@
 // The city generator against brute force: rays cast through the 2D grid of boxes hit what a
 // test of every box finds; the drive stays on the streets; scans lie on the surfaces; the
-// program writes the same files for any thread count.
+// program writes the same files for any thread count. Runs over the memory budget, the scan
+// limit or the disk's free space are refused before anything is written (issue #38), and a
+// run that fails leaves no scan behind.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -15,6 +19,7 @@
 #include "city_route.h"
 #include "ndtom_io/pcd_reader.h"
 #include "simulated_lidar.h"
+#include "ndtom_apps/option_values.h"
 #include "world_options.h"
 
 namespace ndtom::world {
@@ -279,6 +284,105 @@ TEST(WorldgenProgram, SameFilesForAnyThreadCountAndReadableScans) {
   const std::string bad = std::string(NDTOM_WORLDGEN_EXE) + " " + (dir / "bad").string() +
                           " --step 0 2>/dev/null";
   EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
+  fs::remove_all(dir);
+}
+
+// Runs ndtom-worldgen through sh with `args` (and any shell before it in `prefix`); the exit
+// status, and stderr in `err`.
+int runWorldgen(const std::string& args, std::string& err, const std::string& prefix = "") {
+  const fs::path log = fs::temp_directory_path() / ("ndtom_worldgen_err_" + std::to_string(::getpid()));
+  const std::string cmd = prefix + "'" + std::string(NDTOM_WORLDGEN_EXE) + "' " + args + " 2>'" +
+                          log.string() + "' >/dev/null";
+  const int status = std::system(("sh -c \"" + cmd + "\"").c_str());
+  err = readAll(log);
+  fs::remove(log);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Issue #38, class 1: what a run holds grows with its options (the city with --blocks or
+// --km, each thread's scan with --rings x --azimuth-steps); over the memory budget it is
+// refused by the option check, exit 2, naming the options and the figures, with nothing
+// written. So are more than 10 million scans, and files that would not fit the disk.
+TEST(WorldgenProgram, RunsOverTheLimitsAreRefusedUpFrontNamingTheOptions) {
+  const fs::path dir = fs::temp_directory_path() / ("ndtom_worldgen_big_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string out = "'" + (dir / "out").string() + "'";
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+      {" --blocks 1000", {"--blocks 1000: a city of 1000x1000 blocks needs", "over the memory budget of"}},
+      {" --blocks 400 --memory-budget 300", {"--blocks 400", "over the memory budget of 300.0 MB (--memory-budget, in MB)"}},
+      {" --rings 512 --azimuth-steps 36000",
+       {"--rings 512 x --azimuth-steps 36000 = 18.432 M rays a scan", "over the memory budget"}},
+      {" --rings 64 --azimuth-steps 3600 --threads 8 --memory-budget 40",
+       {"--rings 64 x --azimuth-steps 3600", "x --threads 8", "of 40.0 MB"}},
+      {" --km 9000", {"--km 9000 (the city is sized for the drive): a city of 336x336 blocks"}},
+      {" --km 10000 --step 1", {"--km 10000 / --step 1 = 10000001 scans: over the limit of 10000000"}},
+      {" --km 20 --step 0.001", {"--km 20 / --step 0.001 = 20000001 scans: over the limit"}},
+      // Within the limits and the budget, but ~1.5 TB of scans: refused before writing.
+      {" --km 9000 --memory-budget 4000", {"--km 9000 / --step 1 = 9000001 scans", "of files, over the", "free on the disk of"}},
+      {" --memory-budget 0.5", {"--memory-budget 0.5: must be at least 1 MB"}},
+  };
+  for (const auto& [args, messages] : cases) {
+    std::string err;
+    EXPECT_EQ(runWorldgen(out + args + " -q", err), 2) << args << ": " << err;
+    for (const std::string& m : messages) EXPECT_NE(err.find(m), std::string::npos) << args << ": " << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << "one line: " << err;
+    EXPECT_FALSE(fs::exists(dir / "out")) << args;
+  }
+  // The neighbours within the limits pass the option check: the same options with a larger
+  // budget or fewer threads, 10 million scans exactly.
+  const auto parses = [](std::vector<const char*> args) {
+    args.insert(args.begin(), {"ndtom-worldgen", "out"});
+    return parseWorldOptions(int(args.size()), args.data());
+  };
+  EXPECT_NO_THROW(parses({"--rings", "512", "--azimuth-steps", "36000", "--threads", "2",
+                          "--memory-budget", "1500"}));
+  EXPECT_NO_THROW(parses({"--blocks", "400", "--memory-budget", "1000"}));
+  EXPECT_NO_THROW(parses({"--km", "9000", "--memory-budget", "1000"}));
+  EXPECT_NO_THROW(parses({"--km", "9999.999", "--step", "1", "--memory-budget", "1000"}));
+  EXPECT_NO_THROW(parses({"--km", "9.999", "--step", "0.001"}));
+  // Without --threads, as many as the budget holds (one at least); with it, refused.
+  const WorldOptions fewer = parses({"--rings", "64", "--azimuth-steps", "3600", "--memory-budget", "40"});
+  EXPECT_GE(fewer.threads, 1);
+  EXPECT_LE(double(runBytes(fewer)), 40e6);
+  EXPECT_THROW(parses({"--rings", "64", "--azimuth-steps", "3600", "--memory-budget", "40",
+                       "--threads", "8"}),
+               ndtom::apps::UsageError);
+  fs::remove_all(dir);
+}
+
+// The city's estimate bounds what it holds, so that the budget check holds.
+TEST(CityWorld, EstimatedBytesBoundWhatTheCityHolds) {
+  for (const int blocks : {1, 3, 16, 40})
+    for (const uint64_t seed : {1u, 7u}) {
+      CityLayout l;
+      l.blocks_x = blocks;
+      l.blocks_y = blocks + 1;
+      l.seed = seed;
+      const CityWorld city(l);
+      EXPECT_GE(CityWorld::estimatedBytes(l), city.memoryBytes()) << blocks << " blocks";
+      EXPECT_LE(CityWorld::estimatedBytes(l), 4 * city.memoryBytes()) << blocks << " blocks";
+    }
+}
+
+// A run that fails once scans are written (here poses.txt: files are limited to 4-8 kB, and
+// its 101 lines take ~20 kB, the scans under 1 kB each) leaves none in the folder, and
+// nothing else of its own; the same run without the limit writes them all.
+TEST(WorldgenProgram, AFailedRunLeavesNoScanBehind) {
+  const fs::path dir = fs::temp_directory_path() / ("ndtom_worldgen_fail_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string args = "'" + dir.string() + "' --km 0.1 --step 1 --rings 2 --azimuth-steps 8 -q";
+  std::string err;
+  // SIGXFSZ ignored: a write past the limit fails with EFBIG instead of killing the program.
+  EXPECT_EQ(runWorldgen(args, err, "trap '' XFSZ; ulimit -f 8; "), 1) << err;
+  EXPECT_NE(err.find("cannot write " + (dir / "poses.txt").string()), std::string::npos) << err;
+  ASSERT_TRUE(fs::is_directory(dir));
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.push_back(e.path().filename().string());
+  EXPECT_TRUE(left.empty()) << left.size() << " files left, the first " << left.front();
+  EXPECT_EQ(runWorldgen(args, err), 0) << err;
+  size_t scans = 0;
+  for (const auto& e : fs::directory_iterator(dir)) scans += e.path().extension() == ".pcd";
+  EXPECT_EQ(scans, 101u);
   fs::remove_all(dir);
 }
 

@@ -1,5 +1,6 @@
 #include "ndtom_io/pcd_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -281,16 +282,23 @@ PointCloud readPcd(const std::string& path, uint64_t max_points) {
 }
 
 void writePcdBinary(const std::string& path, const std::vector<Eigen::Vector3d>& points) {
-  std::ostringstream out;
-  out << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\n"
-      << "TYPE F F F\nCOUNT 1 1 1\nWIDTH " << points.size() << "\nHEIGHT 1\n"
-      << "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << points.size() << "\nDATA binary\n";
-  for (const auto& p : points) {
-    const float v[3] = {float(p.x()), float(p.y()), float(p.z())};
-    out.write(reinterpret_cast<const char*>(v), sizeof(v));
-  }
-  const std::string bytes = out.str();
-  writeFileAtomically(path, bytes.data(), bytes.size());
+  std::ostringstream header;
+  header << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\n"
+         << "TYPE F F F\nCOUNT 1 1 1\nWIDTH " << points.size() << "\nHEIGHT 1\n"
+         << "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << points.size() << "\nDATA binary\n";
+  // The points in pieces of 4096 (48 kB): no copy of the whole file in memory.
+  writeFileAtomically(path, [&](const FileSink& write) {
+    const std::string text = header.str();
+    write(text.data(), text.size());
+    std::vector<float> piece;
+    for (size_t first = 0; first < points.size(); first += 4096) {
+      const size_t n = std::min<size_t>(4096, points.size() - first);
+      piece.resize(3 * n);
+      for (size_t k = 0; k < n; ++k)
+        for (int a = 0; a < 3; ++a) piece[3 * k + size_t(a)] = float(points[first + k][a]);
+      write(piece.data(), piece.size() * sizeof(float));
+    }
+  });
 }
 
 }  // namespace ndtom::io
