@@ -5,6 +5,11 @@
 //
 //   ndtom-redteam --mapper PATH --probe PATH [--work DIR] [--only PREFIX] [--sample N]
 //                 [--no-address-limit] [--no-memory-check] [--csv FILE]
+//                 [--localizer PATH] [--worldgen PATH] [--rawlog-from-pcd PATH]
+//                 [--mpi-mapper PATH] [--plugin LIBRARY]
+//
+// Issue #38's categories (8-10) need ndtom-localize, ndtom-worldgen, ndtom-rawlog-from-pcd
+// and the plugin (for MRPT's programs); the cases of a program not given are left out.
 //
 // Exit status 0 if every case is clean (an MRPT crash, confirmed by MRPT's own reader on the
 // same file, does not count against it), 1 otherwise.
@@ -17,6 +22,7 @@
 #include <string>
 
 #include "cases.h"
+#include "hostile_maps.h"
 
 using namespace redteam;
 
@@ -39,6 +45,7 @@ const char* kColumnNames[kColumns] = {"clean",         "crash",        "hang",
 
 struct Options {
   std::string mapper, probe, work = "/tmp/ndtom-redteam", only, csv;
+  std::string localizer, worldgen, rawlog_from_pcd, mpi_mapper, plugin;
   int sample = 1;
   bool address_limit = true, memory_check = true;
 };
@@ -57,7 +64,7 @@ Column classify(const Case& k, const Outcome& o, const std::string& note, const 
   if (o.exit_code == 0 && k.expect == Expect::Refuse) return kSilentWrong;
   if (o.exit_code == 1 || o.exit_code == 2) {
     if (k.expect == Expect::Accept) return kUnclear;  // a valid input refused
-    if (lineCount(o.err) != 1 || o.err.find("bad_alloc") != std::string::npos ||
+    if ((k.one_line && lineCount(o.err) != 1) || o.err.find("bad_alloc") != std::string::npos ||
         o.err.find("Cannot write bytes to stream") != std::string::npos)
       return kUnclear;
   }
@@ -88,6 +95,16 @@ Options parse(int argc, char** argv) {
       o.mapper = value();
     else if (a == "--probe")
       o.probe = value();
+    else if (a == "--localizer")
+      o.localizer = value();
+    else if (a == "--worldgen")
+      o.worldgen = value();
+    else if (a == "--rawlog-from-pcd")
+      o.rawlog_from_pcd = value();
+    else if (a == "--mpi-mapper")
+      o.mpi_mapper = value();
+    else if (a == "--plugin")
+      o.plugin = value();
     else if (a == "--work")
       o.work = value();
     else if (a == "--only")
@@ -120,6 +137,8 @@ constexpr uint64_t kOneGigabyteHere = 1000000000;
 #endif
 
 int main(int argc, char** argv) {
+  if (argc > 1 && std::string(argv[1]) == "--write")  // a child making a hostile map
+    return writeHostileMap(std::vector<std::string>(argv + 2, argv + argc));
   Options opt;
   try {
     opt = parse(argc, argv);
@@ -128,17 +147,33 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ndtom-redteam: %s\n", e.what());
     return 2;
   }
+  // Absolute paths: some cases run in folders of their own.
+  for (std::string* path : {&opt.mapper, &opt.probe, &opt.work, &opt.localizer, &opt.worldgen,
+                            &opt.rawlog_from_pcd, &opt.mpi_mapper, &opt.plugin})
+    if (!path->empty()) *path = std::filesystem::absolute(*path).string();
   std::filesystem::remove_all(opt.work);
   std::filesystem::create_directories(opt.work);
-  Context c{opt.mapper, opt.probe, opt.work,
-            std::string(NDTOM_SOURCE_DIR) + "/tests/data/balm-realworld",
-            std::string(NDTOM_SOURCE_DIR) + "/share/data/tum-fr2-pioneer-slam2"};
+  Context c;
+  c.mapper = opt.mapper;
+  c.probe = opt.probe;
+  c.work = opt.work;
+  c.lidar = std::string(NDTOM_SOURCE_DIR) + "/tests/data/balm-realworld";
+  c.tum = std::string(NDTOM_SOURCE_DIR) + "/share/data/tum-fr2-pioneer-slam2";
+  c.localizer = opt.localizer;
+  c.worldgen = opt.worldgen;
+  c.rawlog_from_pcd = opt.rawlog_from_pcd;
+  c.mpi_mapper = opt.mpi_mapper;
+  c.plugin = opt.plugin;
+  c.self = std::filesystem::read_symlink("/proc/self/exe").string();
   std::vector<Case> cases;
   for (auto* make : {pcdHeaderCases, geometryMemoryCases, loaderCountCases, writableCases,
-                     silentValueCases, outputCases, smallCases, rawlogCases}) {
+                     silentValueCases, outputCases, smallCases, rawlogCases, localizeCases,
+                     optionCases, pluginCases}) {
     std::vector<Case> more = make(c);
+    size_t sampleable = 0;  // every N-th of the category's cases that may be sampled
     for (size_t i = 0; i < more.size(); ++i)
-      if (more[i].category.rfind(opt.only, 0) == 0 && i % size_t(opt.sample) == 0)
+      if (more[i].category.rfind(opt.only, 0) == 0 &&
+          (opt.sample == 1 || (more[i].sampled && sampleable++ % size_t(opt.sample) == 0)))
         cases.push_back(std::move(more[i]));
   }
   std::map<std::string, std::array<int, kColumns + 1>> table;  // [kColumns]: tried
@@ -158,6 +193,7 @@ int main(int argc, char** argv) {
     std::string note;
     try {
       input = k.setup ? k.setup() : 0;
+      if (k.make_argv) k.argv = k.make_argv();
       o = runCommand(k.argv, k.limits, k.cwd);
       note = k.check ? k.check(o) : "";
     } catch (const std::exception& e) {  // the harness's own failure, not the program's
