@@ -128,6 +128,50 @@ TEST(GlobalLocalization, LocalSearchRecoversFromAWrongPrediction) {
   EXPECT_LT(rotationErrorDeg(r.best.pose, b.poses[k]), 1.0);
 }
 
+// Issue #38: the search's poses were all built (and stored twice) before scoring: a recovery
+// radius of 100 m on a 0.1 m grid took 2.1 GB and ended in bad_alloc. They are now counted,
+// indexed and streamed; a grid past kMaxSearchPoses is not run, saying which options shrink it.
+TEST(GlobalLocalization, SearchPosesAreCountedAndStreamedNotStored) {
+  for (const double step : {0.1, 0.3, 2.0})
+    for (const double radius : {0.0, 0.25, 2.0, 4.0, 7.3})
+      for (const double yaw : {0.0, 29.0, 60.0}) {
+        GlobalSearchOptions o;
+        o.position_step = step;
+        // The grid of the search before #38, built pose by pose.
+        const int cells = int(std::floor(radius / step));
+        const int yaws = int(std::floor(yaw / o.yaw_step_deg));
+        size_t brute = 0;
+        for (int i = -cells; i <= cells; ++i)
+          for (int j = -cells; j <= cells; ++j)
+            if (std::hypot(i, j) * step <= radius + 1e-9) brute += size_t(2 * yaws + 1);
+        EXPECT_EQ(searchAroundPoses(o, radius, yaw), brute) << step << " " << radius << " " << yaw;
+      }
+  const Balm& b = balm();
+  const int k = 6;
+  const NdtMap map = b.mapWithout(k);
+  Isometry3d wrong = b.poses[k];
+  wrong.translation() += Vector3d(1.5, -1.0, 0);
+  // The best few are kept per thread and merged: any thread count finds the same pose.
+  RegistrationOptions one_thread;
+  one_thread.threads = 1;
+  GlobalSearchOptions fine;
+  fine.position_step = 0.5;
+  GlobalLocalizer one(fine, one_thread), all(fine, RegistrationOptions{});
+  const GlobalLocalizationResult a = one.searchAround(map, b.scans[k], wrong, 3.0, 60);
+  const GlobalLocalizationResult c = all.searchAround(map, b.scans[k], wrong, 3.0, 60);
+  ASSERT_TRUE(a.found) << a.failure;
+  EXPECT_EQ(a.hypotheses, searchAroundPoses(fine, 3.0, 60));
+  EXPECT_EQ(c.hypotheses, a.hypotheses);
+  EXPECT_TRUE(c.best.pose.isApprox(a.best.pose, 1e-9));
+  EXPECT_LT((a.best.pose.translation() - b.poses[k].translation()).norm(), 0.1);
+  // 1000 m on the 2 m grid, ±180°: about 10 million poses, refused at once.
+  ASSERT_GT(searchAroundPoses(GlobalSearchOptions{}, 1000, 180), kMaxSearchPoses);
+  const GlobalLocalizationResult huge = all.searchAround(map, b.scans[k], wrong, 1000, 180);
+  EXPECT_FALSE(huge.found);
+  EXPECT_EQ(huge.hypotheses, 0u);
+  EXPECT_NE(huge.failure.find("raise position_step"), std::string::npos) << huge.failure;
+}
+
 TEST(GlobalLocalization, BadOptionsAreRejected) {
   GlobalSearchOptions o;
   o.scoring_level_factor = 3;  // not a level

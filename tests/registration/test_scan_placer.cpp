@@ -114,3 +114,23 @@ TEST(ScanPlacer, GroundRingsDoNotHoldAMovingScanWhereTheLastOneWas) {
 #endif
 
 }  // namespace
+
+// Issue #38: --recovery-radius 100 --search-step 0.1 (each in its range) made a search of
+// 9.4 million poses per lost scan; refused before any scan, naming the option.
+TEST(ScanPlacerRules, ARecoverySearchPastThePoseLimitIsRefusedUpFront) {
+  PlacementOptions o;
+  EXPECT_NO_THROW(validate(o));
+  o.recovery_radius = 100;
+  o.search.position_step = 0.1;
+  try {
+    validate(o);
+    ADD_FAILURE() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("recovery_radius", 0), 0u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("poses"), std::string::npos) << e.what();
+  }
+  o.recovery_yaw_deg = 0;  // one yaw, 785k x, y points on the 0.1 m grid: within the limit
+  o.recovery_radius = 50;
+  EXPECT_LE(searchAroundPoses(o.search, o.recovery_radius, 0), kMaxSearchPoses);
+  EXPECT_NO_THROW(validate(o));
+}

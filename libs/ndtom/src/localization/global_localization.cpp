@@ -22,6 +22,8 @@ Eigen::Matrix3d levelling(const Eigen::Vector3d& up) {
   return Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 }
 
+using PoseAt = std::function<bool(size_t i, Eigen::Isometry3d& pose)>;
+
 struct Hypothesis {
   Eigen::Isometry3d pose;
   double score = 0;
@@ -43,12 +45,70 @@ bool farApart(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return (a.translation() - b.translation()).norm() > 1.0 || angle > 10 * M_PI / 180;
 }
 
-// Every pose scored on the scoring level (in parallel over poses: each score is one thread's
-// sum), best first; ties go to the first generated.
+// x, y on the position grid within `radius` of a centre, yaw within ±yaw range on the yaw
+// grid; indexed over the enclosing square so no pose is stored.
+class SearchAroundGrid {
+ public:
+  SearchAroundGrid(const GlobalSearchOptions& o, double radius, double yaw_range_deg)
+      : step_(o.position_step),
+        yaw_step_(o.yaw_step_deg * M_PI / 180),
+        radius_(radius),
+        cells_(int64_t(std::floor(radius / o.position_step))),
+        yaws_(int64_t(std::floor(yaw_range_deg / o.yaw_step_deg))) {}
+
+  size_t side() const { return size_t(2 * cells_ + 1); }
+  size_t yawCount() const { return size_t(2 * yaws_ + 1); }
+  size_t size() const { return side() * side() * yawCount(); }
+  bool inside(int64_t i, int64_t j) const {
+    return std::hypot(double(i), double(j)) * step_ <= radius_ + 1e-9;
+  }
+  /// The x, y grid points inside the circle (one row at a time: no loop over the square).
+  size_t inCircle() const {
+    size_t n = 0;
+    for (int64_t i = -cells_; i <= cells_; ++i) {
+      const double reach = radius_ / step_;
+      int64_t j = std::min<int64_t>(
+          cells_, int64_t(std::sqrt(std::max(0.0, reach * reach - double(i * i)))) + 1);
+      while (j >= 0 && !inside(i, j)) --j;
+      if (j >= 0) n += size_t(2 * j + 1);
+    }
+    return n;
+  }
+  bool poseAt(size_t index, const Eigen::Isometry3d& centre, Eigen::Isometry3d& pose) const {
+    const int64_t k = int64_t(index % yawCount()) - yaws_;
+    const size_t cell = index / yawCount();
+    const int64_t i = int64_t(cell / side()) - cells_, j = int64_t(cell % side()) - cells_;
+    if (!inside(i, j)) return false;
+    pose = centre;
+    pose.linear() = Eigen::AngleAxisd(double(k) * yaw_step_, Eigen::Vector3d::UnitZ()) *
+                    centre.linear();
+    pose.translation() += Eigen::Vector3d(double(i) * step_, double(j) * step_, 0);
+    return true;
+  }
+
+ private:
+  double step_, yaw_step_, radius_;
+  int64_t cells_, yaws_;
+};
+
+std::string tooManyPoses(size_t poses, const char* grid, const char* smaller) {
+  return "the search would score " + std::to_string(poses) + " poses (" + grid +
+         "), more than " + std::to_string(kMaxSearchPoses) +
+         ": raise position_step, or lower " + smaller;
+}
+
+bool better(const Hypothesis& a, const Hypothesis& b) {
+  return a.score > b.score || (a.score == b.score && a.index < b.index);
+}
+
+// Every pose of the grid scored on the scoring level (in parallel over poses: each score is
+// one thread's sum); the best `keep`, best first, ties to the first generated. Only those are
+// kept: memory stays a few poses per thread however fine the grid.
 std::vector<Hypothesis> scoreHypotheses(const NdtMap& map, const std::vector<Eigen::Vector3d>& scan,
-                                        const std::vector<Eigen::Isometry3d>& poses,
+                                        size_t grid_size, const PoseAt& pose_at, size_t keep,
                                         NdtRegistration& registration,
-                                        const GlobalSearchOptions& options, WorkerPool& pool) {
+                                        const GlobalSearchOptions& options, WorkerPool& pool,
+                                        size_t& scored) {
   using namespace registration;
   const RegistrationOptions& ro = registration.options();
   // The scan at the scoring level, as the registration reduces it.
@@ -64,16 +124,30 @@ std::vector<Hypothesis> scoreHypotheses(const NdtMap& map, const std::vector<Eig
   const NdtObjective objective(pyramid->level(level), scan_levels[0], RegistrationMethod::P2D,
                                scoreConstants(pyramid->resolution(level), ro.outlier_ratio), pool,
                                1);
-  std::vector<Hypothesis> hypotheses(poses.size());
   const size_t threads = size_t(ro.threads);
+  std::vector<std::vector<Hypothesis>> best(threads);  // per thread, a heap: worst on top
+  std::vector<size_t> counts(threads, 0);
   pool.run(threads, [&](size_t t) {
-    for (size_t i = t; i < poses.size(); i += threads)
-      hypotheses[i] = {poses[i], objective.evaluate(poses[i], false).score, i};
+    Eigen::Isometry3d pose;
+    for (size_t i = t; i < grid_size; i += threads) {
+      if (!pose_at(i, pose)) continue;
+      ++counts[t];
+      best[t].push_back({pose, objective.evaluate(pose, false).score, i});
+      std::push_heap(best[t].begin(), best[t].end(), better);
+      if (best[t].size() > keep) {
+        std::pop_heap(best[t].begin(), best[t].end(), better);
+        best[t].pop_back();
+      }
+    }
   });
-  std::sort(hypotheses.begin(), hypotheses.end(), [](const Hypothesis& a, const Hypothesis& b) {
-    return a.score > b.score || (a.score == b.score && a.index < b.index);
-  });
-  return hypotheses;
+  std::vector<Hypothesis> all;
+  for (size_t t = 0; t < threads; ++t) {
+    all.insert(all.end(), best[t].begin(), best[t].end());
+    scored += counts[t];
+  }
+  std::sort(all.begin(), all.end(), better);
+  if (all.size() > keep) all.resize(keep);
+  return all;
 }
 
 // The best `options.refined` hypotheses registered on the coarse levels; each distinct pose
@@ -200,21 +274,31 @@ GlobalLocalizationResult GlobalLocalizer::localize(const NdtMap& map,
     return result;
   }
   const Eigen::Matrix3d level_rotation = levelling(result.gravity.up);
-  const int yaws = std::max(1, int(std::lround(360.0 / options_.yaw_step_deg)));
-  std::vector<Eigen::Isometry3d> poses;
-  poses.reserve(ground_->columns.size() * size_t(yaws));
-  for (const global::GroundColumn& column : ground_->columns)
-    for (int k = 0; k < yaws; ++k) {
-      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-      pose.linear() =
-          Eigen::AngleAxisd(2 * M_PI * k / yaws, Eigen::Vector3d::UnitZ()) * level_rotation;
-      pose.translation() =
-          Eigen::Vector3d(column.centre.x(), column.centre.y(), column.z + result.gravity.height);
-      poses.push_back(pose);
-    }
-  searchAmong(map, scan, poses, result);
+  const size_t yaws = size_t(std::max(1L, std::lround(360.0 / options_.yaw_step_deg)));
+  const auto& columns = ground_->columns;
+  const PoseAt pose_at = [&](size_t i, Eigen::Isometry3d& pose) {
+    const global::GroundColumn& column = columns[i / yaws];
+    pose.setIdentity();
+    pose.linear() = Eigen::AngleAxisd(2 * M_PI * double(i % yaws) / double(yaws),
+                                      Eigen::Vector3d::UnitZ()) *
+                    level_rotation;
+    pose.translation() =
+        Eigen::Vector3d(column.centre.x(), column.centre.y(), column.z + result.gravity.height);
+    return true;
+  };
+  const size_t poses = columns.size() * yaws;
+  if (poses > kMaxSearchPoses) {
+    result.failure = tooManyPoses(poses, "ground columns x yaws", "yaw_step_deg");
+  } else {
+    searchAmong(map, scan, poses, pose_at, result);
+  }
   result.seconds = secondsSince(start);
   return result;
+}
+
+size_t searchAroundPoses(const GlobalSearchOptions& o, double radius, double yaw_range_deg) {
+  const SearchAroundGrid grid(o, radius, yaw_range_deg);
+  return grid.inCircle() * grid.yawCount();
 }
 
 GlobalLocalizationResult GlobalLocalizer::searchAround(const NdtMap& map,
@@ -223,35 +307,28 @@ GlobalLocalizationResult GlobalLocalizer::searchAround(const NdtMap& map,
                                                        double radius, double yaw_range_deg) {
   const auto start = Clock::now();
   GlobalLocalizationResult result;
-  const double step = options_.position_step;
-  const int cells = int(std::floor(radius / step));
-  const int yaws = int(std::floor(yaw_range_deg / options_.yaw_step_deg));
-  std::vector<Eigen::Isometry3d> poses;
-  for (int i = -cells; i <= cells; ++i)
-    for (int j = -cells; j <= cells; ++j) {
-      if (std::hypot(i, j) * step > radius + 1e-9) continue;
-      for (int k = -yaws; k <= yaws; ++k) {
-        Eigen::Isometry3d pose = centre;
-        pose.linear() =
-            Eigen::AngleAxisd(k * options_.yaw_step_deg * M_PI / 180, Eigen::Vector3d::UnitZ()) *
-            centre.linear();
-        pose.translation() += Eigen::Vector3d(i * step, j * step, 0);
-        poses.push_back(pose);
-      }
-    }
-  searchAmong(map, scan, poses, result);
+  const SearchAroundGrid grid(options_, radius, yaw_range_deg);
+  const size_t poses = grid.inCircle() * grid.yawCount();
+  if (poses > kMaxSearchPoses) {
+    result.failure = tooManyPoses(poses, "the circle's grid x yaws", "radius, yaw range");
+  } else {
+    const PoseAt pose_at = [&](size_t i, Eigen::Isometry3d& pose) {
+      return grid.poseAt(i, centre, pose);
+    };
+    searchAmong(map, scan, grid.size(), pose_at, result);
+  }
   result.seconds = secondsSince(start);
   return result;
 }
 
 void GlobalLocalizer::searchAmong(const NdtMap& map, const std::vector<Eigen::Vector3d>& scan,
-                                  const std::vector<Eigen::Isometry3d>& poses,
+                                  size_t grid_size, const PoseAt& pose_at,
                                   GlobalLocalizationResult& result) {
   // Every hypothesis scored on one coarse level.
   const auto scoring_start = Clock::now();
-  const std::vector<Hypothesis> hypotheses =
-      scoreHypotheses(map, scan, poses, registration_, options_, ground_->pool);
-  result.hypotheses = hypotheses.size();
+  const std::vector<Hypothesis> hypotheses = scoreHypotheses(
+      map, scan, grid_size, pose_at, options_.refined, registration_, options_, ground_->pool,
+      result.hypotheses);
   result.scoring_seconds = secondsSince(scoring_start);
 
   // The best few on the coarse levels; of the distinct poses they reach, the best few on

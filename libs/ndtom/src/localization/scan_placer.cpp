@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "localization/ground_thinning.h"
 #include "localization/weak_directions.h"
@@ -31,6 +32,14 @@ void validate(const PlacementOptions& o) {
     failOption("recovery_radius", o.recovery_radius, "must be in [0, 1000]");
   if (!(o.recovery_yaw_deg >= 0 && o.recovery_yaw_deg <= 180))
     failOption("recovery_yaw_deg", o.recovery_yaw_deg, "must be in [0, 180]");
+  const size_t poses = searchAroundPoses(o.search, o.recovery_radius, o.recovery_yaw_deg);
+  if (poses > kMaxSearchPoses)
+    failOption("recovery_radius", o.recovery_radius,
+               ("makes a search of " + std::to_string(poses) + " poses with position_step " +
+                std::to_string(o.search.position_step) + " m and recovery_yaw_deg " +
+                std::to_string(o.recovery_yaw_deg) + ", more than " +
+                std::to_string(kMaxSearchPoses) + ": lower it or raise position_step")
+                   .c_str());
   if (!(o.weak_direction_sigma > 0))
     failOption("weak_direction_sigma", o.weak_direction_sigma, "must be > 0 (inf: never)");
   if (!(o.ground_thinning >= 1 && o.ground_thinning <= 1000))

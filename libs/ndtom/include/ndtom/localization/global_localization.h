@@ -9,6 +9,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,6 +46,13 @@ struct GlobalSearchOptions {
 
 /// Throws std::invalid_argument naming the bad option.
 void validate(const GlobalSearchOptions& options);
+
+/// A search scores at most this many poses (each 400 points on a coarse level, a few µs;
+/// 3,180 for the campus map, 12 per 4 m² of floor): past it, it is not run and says which
+/// options make it smaller. The poses are not stored, only the best few per thread.
+inline constexpr size_t kMaxSearchPoses = 4'000'000;
+/// The poses `searchAround` scores with these options.
+size_t searchAroundPoses(const GlobalSearchOptions& options, double radius, double yaw_range_deg);
 /// `search` with its scoring and coarse refinement levels moved to the nearest of the
 /// registration's `level_factors` (they score and sort on pyramid levels), when those leave
 /// the defaults out.
@@ -97,9 +106,12 @@ class GlobalLocalizer {
 
  private:
   struct GroundCache;
-  /// Scores `poses`, registers the best, and fills `result` (all but gravity and ground).
-  void searchAmong(const NdtMap& map, const std::vector<Eigen::Vector3d>& scan,
-                   const std::vector<Eigen::Isometry3d>& poses, GlobalLocalizationResult& result);
+  /// Pose `i` of a grid of `grid_size`; false where the grid has none at `i`.
+  using PoseAt = std::function<bool(size_t i, Eigen::Isometry3d& pose)>;
+  /// Scores the grid's poses, registers the best, and fills `result` (all but gravity and
+  /// ground).
+  void searchAmong(const NdtMap& map, const std::vector<Eigen::Vector3d>& scan, size_t grid_size,
+                   const PoseAt& pose_at, GlobalLocalizationResult& result);
 
   GlobalSearchOptions options_;
   NdtRegistration registration_;
