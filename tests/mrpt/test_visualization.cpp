@@ -221,3 +221,39 @@ TEST(Visualization, RecursiveNdtMapsDrawEveryGaussian) {
   ASSERT_TRUE(free);
   EXPECT_EQ(free->size(), 0u);
 }
+
+// Issue #38: --ellipsoid-detail 4 on a 27k-Gaussian map reserved ~7 GB of triangles. The
+// detail is lowered until the scene fits kMaxSceneTriangles, and no further.
+TEST(Visualization, DetailIsLoweredToTheTriangleBudget) {
+  using mrpt_ndtom::kMaxSceneTriangles;
+  using mrpt_ndtom::subdivisionsWithinBudget;
+  using mrpt_ndtom::trianglesPerEllipsoid;
+  for (const size_t drawn : {size_t(1), size_t(500), size_t(1500), size_t(8192), size_t(40000),
+                             kMaxSceneTriangles / 8, kMaxSceneTriangles})
+    for (uint32_t requested = 0; requested <= 4; ++requested) {
+      const uint32_t s = subdivisionsWithinBudget(drawn, requested);
+      EXPECT_LE(s, requested);
+      if (s > 0) EXPECT_LE(drawn * trianglesPerEllipsoid(s), kMaxSceneTriangles) << drawn;
+      if (s < requested)  // lowered only as far as needed
+        EXPECT_GT(drawn * trianglesPerEllipsoid(s + 1), kMaxSceneTriangles) << drawn;
+    }
+  // A map of ~1000 Gaussians: detail 4 would be 2 million triangles.
+  auto map = CNDTOccupancyMap::Create(0.5);
+  std::vector<Vector3d> points;
+  for (int i = 0; i < 32; ++i)
+    for (int j = 0; j < 32; ++j)
+      for (int k = 0; k < 3; ++k)
+        points.emplace_back(0.5 * i + 0.1 + 0.1 * k, 0.5 * j + 0.25, 0.1 * k + 0.1);
+  map->insertPoints(points, Vector3d(8, 8, 5));
+  const size_t n = map->ndtMap().numGaussians();
+  ASSERT_GT(n * trianglesPerEllipsoid(4), kMaxSceneTriangles);
+  mrpt_ndtom::TRenderOptions options;
+  options.subdivisions = 4;
+  mrpt::opengl::CSetOfObjects objs;
+  mrpt_ndtom::buildNdtVisualization(map->ndtMap(), options, objs);
+  const auto mesh = meshOf(objs);
+  ASSERT_TRUE(mesh);
+  EXPECT_EQ(mesh->getTrianglesCount(), n * trianglesPerEllipsoid(subdivisionsWithinBudget(n, 4)));
+  EXPECT_LE(mesh->getTrianglesCount(), kMaxSceneTriangles);
+  EXPECT_LT(subdivisionsWithinBudget(n, 4), 4u);
+}

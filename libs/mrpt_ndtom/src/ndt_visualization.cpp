@@ -49,10 +49,11 @@ std::vector<ndtom::Gaussian> selectGaussians(const ndtom::NdtMap& map, const TRe
         (!map.options().occupancy.enabled || c.logodds > o.min_logodds))
       all.push_back(map.gaussianOf(c, ndtom::Covariance::Regularized));
   });
-  if (all.size() > o.max_ellipsoids) {
+  const size_t most = std::min<size_t>(o.max_ellipsoids, kMaxSceneTriangles / 8);
+  if (all.size() > most) {
     std::stable_sort(all.begin(), all.end(),
                      [](const auto& a, const auto& b) { return a.n > b.n; });
-    all.resize(o.max_ellipsoids);
+    all.resize(most);
     std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.cell < b.cell; });
   }
   return all;
@@ -127,6 +128,12 @@ size_t trianglesPerEllipsoid(uint32_t subdivisions) {
   return size_t(8) << (2 * subdivisions);
 }
 
+uint32_t subdivisionsWithinBudget(size_t drawn, uint32_t requested) {
+  uint32_t s = requested;
+  while (s > 0 && drawn * trianglesPerEllipsoid(s) > kMaxSceneTriangles) --s;
+  return s;
+}
+
 std::vector<DrawnGaussian> drawnGaussians(const ndtom::NdtMap& map, const TRenderOptions& o) {
   o.validate();
   const std::vector<ndtom::Gaussian> gaussians = selectGaussians(map, o);
@@ -151,13 +158,16 @@ void buildNdtVisualization(const ndtom::NdtMap& map, const std::vector<DrawnGaus
                            const TRenderOptions& o, mrpt::opengl::CSetOfObjects& out) {
   o.validate();
   if (!drawn.empty()) {
-    const auto sphere = unitSphere(o.subdivisions);
+    // Gaussians selected elsewhere may be more than the budget draws: the first of them.
+    const size_t count = std::min(drawn.size(), kMaxSceneTriangles / 8);
+    const auto sphere = unitSphere(subdivisionsWithinBudget(count, o.subdivisions));
     // Straight into the mesh, one ellipsoid at a time: no second copy of every triangle.
     auto mesh = mrpt::opengl::CSetOfTriangles::Create();
     mesh->setName("ndtom_gaussians");
-    mesh->reserve(drawn.size() * sphere.size());
+    mesh->reserve(count * sphere.size());
     std::vector<mrpt::opengl::TTriangle> tris;
-    for (const auto& d : drawn) {
+    for (size_t i = 0; i < count; ++i) {
+      const DrawnGaussian& d = drawn[i];
       ellipsoidTriangles(d.gaussian, sphere, o.quantiles, d.color, tris);
       mesh->insertTriangles(tris.begin(), tris.end());
     }

@@ -17,6 +17,13 @@ namespace mrpt_ndtom {
 /// Triangles drawn per ellipsoid at `subdivisions` (see TRenderOptions): 8·4^subdivisions.
 size_t trianglesPerEllipsoid(uint32_t subdivisions);
 
+/// The ellipsoids of one scene hold at most this many triangles (~100 bytes each in the mesh,
+/// as much again in a viewer): past it the tessellation is coarsened, down to octahedra, and
+/// then only the best-supported kMaxSceneTriangles / 8 Gaussians are drawn.
+inline constexpr size_t kMaxSceneTriangles = size_t(1) << 20;
+/// The subdivisions `drawn` ellipsoids get: `requested`, or fewer within kMaxSceneTriangles.
+uint32_t subdivisionsWithinBudget(size_t drawn, uint32_t requested);
+
 /// An occupied Gaussian as drawn: regularised (so that its ellipsoid has volume) and coloured
 /// by the height of its mean.
 struct DrawnGaussian {
@@ -25,7 +32,7 @@ struct DrawnGaussian {
 };
 
 /// The Gaussians that `options` draw: those of occupied cells above `min_logodds`, the
-/// best-supported `max_ellipsoids` of them, in cell order. Throws on invalid options.
+/// best-supported `max_ellipsoids` (at most kMaxSceneTriangles / 8) of them, in cell order. Throws on invalid options.
 std::vector<DrawnGaussian> drawnGaussians(const ndtom::NdtMap& map, const TRenderOptions& options);
 
 /// Appends to `out` a CSetOfTriangles named "ndtom_gaussians" (if any Gaussian qualifies)

@@ -16,7 +16,8 @@ namespace ndtom::apps {
 /// What both the picture and the .3Dscene draw: the map's Gaussians coloured on `scale`.
 /// `detail` (the scene's subdivisions) -1 picks by how many are drawn: 128 triangles each up
 /// to 8000, 32 up to 20000, else 8 (octahedra): each triangle takes ~100 bytes in the mesh,
-/// and the scene's viewer holds as much again.
+/// and the scene's viewer holds as much again. A `detail` that would pass
+/// mrpt_ndtom::kMaxSceneTriangles is lowered until it does not.
 mrpt_ndtom::TRenderOptions renderOptionsFor(const ndtom::NdtMap& map, const HeightScale& scale,
                                             uint32_t max_ellipsoids, int detail = -1);
 
