@@ -15,8 +15,10 @@ namespace ndtom::localizer {
 
 class RegionMap {
  public:
-  /// Opens the tiled file (its index only); throws as TiledMapFile.
-  RegionMap(const std::string& path, double radius);
+  /// Opens the tiled file (its index only); throws as TiledMapFile. The resident tiles take
+  /// at most `memory_budget` bytes: a tile past it is refused (MemoryBudgetError).
+  RegionMap(const std::string& path, double radius,
+            uint64_t memory_budget = ndtom::defaultMemoryBudget());
 
   /// The resident tiles, in one map: the same object for the whole run.
   const ndtom::NdtMap& map() const { return map_; }
@@ -38,7 +40,7 @@ class RegionMap {
  private:
   double distanceXY(const ndtom::CellIndex& tile, const Eigen::Vector3d& p) const;
   void load(const ndtom::TileInfo& tile);
-  void drop(const ndtom::CellIndex& tile);
+  void drop(const std::vector<ndtom::CellIndex>& tiles);
 
   ndtom::TiledMapFile file_;
   double radius_;

@@ -136,3 +136,41 @@ TEST(GaussianLookup, ForEachAroundVisitsExactlyTheNeighbourCellsGaussians) {
         EXPECT_EQ(walked, expected) << x << "," << y << "," << z;
       }
 }
+
+// Issue #38: the index took 2 KB per block, so a map of one Gaussian a block (and each
+// pyramid level over it) cost 2 KB a Gaussian. Now a bit per cell: a full block (every
+// offset's rank) and scattered blocks are found exactly, in a few hundred bytes a Gaussian.
+TEST(GaussianLookup, SparseAndFullBlocksAreIndexedByRank) {
+  ndtom::MapOptions o;
+  o.resolution = 0.5;
+  o.occupancy.enabled = false;
+  NdtMap map(o);
+  ndtom::CellStats stats;
+  stats.n = 3;
+  stats.scatter = Matrix3d::Identity() * 0.01;
+  std::set<ndtom::CellIndex> cells;
+  for (int i = 0; i < 8; ++i)  // block (0, 0, 0), every cell
+    for (int j = 0; j < 8; ++j)
+      for (int k = 0; k < 8; ++k) cells.insert({i, j, k});
+  std::mt19937 rng(4);
+  std::uniform_int_distribution<int> block(-200, 200), offset(0, 7);
+  while (cells.size() < 512 + 3000)  // one cell in each of 3000 other blocks
+    cells.insert({16 * block(rng) + offset(rng) + 8, 8 * block(rng) + offset(rng),
+                  8 * (block(rng) % 4) + offset(rng)});
+  for (const auto& c : cells) map.setCell(c, 0.f, stats);
+  const GaussianLookup lookup(map);
+  ASSERT_EQ(lookup.size(), cells.size());
+  for (const auto& c : cells) {
+    const auto* g = lookup.find(c);
+    ASSERT_NE(g, nullptr);
+    EXPECT_EQ(g->cell, c);
+  }
+  for (int i = 0; i < 2000; ++i) {  // random cells: found exactly when they hold a Gaussian
+    const ndtom::CellIndex c{16 * block(rng) + offset(rng) + 8, 8 * block(rng) + offset(rng),
+                             8 * (block(rng) % 4) + offset(rng)};
+    EXPECT_EQ(lookup.find(c) != nullptr, cells.count(c) > 0);
+  }
+  EXPECT_LE(lookup.memoryBytes(), cells.size() * GaussianLookup::maxBytesPerGaussian() +
+                                      map.numBlocks() * 2 * sizeof(void*));
+  EXPECT_LT(GaussianLookup::maxBytesPerGaussian(), 512u);
+}

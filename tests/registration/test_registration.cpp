@@ -9,6 +9,8 @@
 #include <random>
 
 #include "core/synthetic_room.h"
+#include "ndtom/map/memory_budget.h"
+#include "ndtom/registration/map_pyramid.h"
 #include "ndtom/registration/registration.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
@@ -467,4 +469,39 @@ TEST(Registration, BadInputIsRejectedAndChangesNothing) {
   EXPECT_THROW(registration.setOptions(bad), std::invalid_argument);
   EXPECT_EQ(registration.options().threads, 1);
   EXPECT_THROW(registrationMethodFromString("icp"), std::invalid_argument);
+}
+
+// Issue #38: the pyramid over a map of one Gaussian a block took 2.75 GB beside a 7.6 MB
+// file. Its levels now count against the map's memory budget, beside the map.
+TEST(MapPyramid, LevelsCountAgainstTheMapsMemoryBudget) {
+  ndtom::MapOptions o;
+  o.resolution = 0.2;
+  o.occupancy.enabled = false;
+  ndtom::NdtMap map(o);
+  ndtom::CellStats stats;
+  stats.n = 3;
+  stats.scatter = Eigen::Matrix3d::Identity() * 0.001;
+  for (int i = 0; i < 40; ++i)  // 3200 blocks 3.2 m apart: each level as large as the map
+    for (int j = 0; j < 40; ++j)
+      for (int k = 0; k < 2; ++k) map.setCell({16 * i, 16 * j, 16 * k}, 0.f, stats);
+  const std::vector<int> factors{16, 8, 4, 2, 1};
+  const ndtom::MapPyramid pyramid(map, factors);
+  size_t levels_bytes = 0;
+  for (size_t l = 0; l < pyramid.size(); ++l) {
+    EXPECT_EQ(pyramid.level(l).size(), map.numGaussians()) << l;  // nothing merges
+    levels_bytes += pyramid.level(l).memoryBytes();
+  }
+  EXPECT_LE(levels_bytes, factors.size() * map.numGaussians() *
+                              ndtom::GaussianLookup::maxBytesPerGaussian());
+  // A budget the map fits in but not its levels: refused, naming the pyramid.
+  ndtom::MapOptions tight = o;
+  tight.scan.memory_budget = map.memoryBytes() + levels_bytes / 2;
+  ndtom::NdtMap small(tight);
+  map.forEachCell([&](const ndtom::CellView& c) { small.setCell(c.index, c.logodds, *c.stats); });
+  try {
+    const ndtom::MapPyramid refused(small, factors);
+    ADD_FAILURE() << "built within " << tight.scan.memory_budget;
+  } catch (const ndtom::MemoryBudgetError& e) {
+    EXPECT_NE(std::string(e.what()).find("registration pyramid"), std::string::npos) << e.what();
+  }
 }

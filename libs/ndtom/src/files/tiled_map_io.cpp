@@ -188,9 +188,13 @@ Eigen::AlignedBox3d TiledMapFile::tileBox(const CellIndex& tile) const {
   return tileBoxOf(tile, tile_blocks_, options_.resolution);
 }
 
+std::string TiledMapFile::tileSource(const TileInfo& tile) const {
+  return path_ + " tile (" + std::to_string(tile.tile.x) + ", " + std::to_string(tile.tile.y) +
+         ", " + std::to_string(tile.tile.z) + ")";
+}
+
 NdtMap TiledMapFile::loadTile(const TileInfo& tile, uint64_t memory_budget) const {
-  const std::string source = path_ + " tile (" + std::to_string(tile.tile.x) + ", " +
-                             std::to_string(tile.tile.y) + ", " + std::to_string(tile.tile.z) + ")";
+  const std::string source = tileSource(tile);
   if (tile.size > memory_budget) throw MemoryBudgetError("loading " + source, tile.size, memory_budget);
   std::ifstream in(path_, std::ios::binary);
   std::string bytes(tile.size, '\0');
@@ -235,8 +239,14 @@ NdtMap TiledMapFile::loadTilesWhere(const std::function<bool(const CellIndex&)>&
   MapOptions options = options_;
   options.scan.memory_budget = memory_budget;
   NdtMap map(options);
-  for (const TileInfo& t : tiles_)
-    if (wanted(t.tile)) addTile(loadTile(t, memory_budget), map);
+  for (const TileInfo& t : tiles_) {
+    if (!wanted(t.tile)) continue;
+    NdtMap tile = loadTile(t, memory_budget);
+    const uint64_t need = uint64_t(map.memoryBytes()) + tile.memoryBytes();
+    if (need > memory_budget)
+      throw MemoryBudgetError(tileSource(t) + " with the tiles before it", need, memory_budget);
+    addTile(tile, map);
+  }
   return map;
 }
 

@@ -31,6 +31,7 @@ PreparedGaussian prepare(const Gaussian& g) {
 
 GaussianLookup::GaussianLookup(const NdtMap& map, const LookupOptions& options)
     : geometry_(map.geometry()) {
+  gaussians_.reserve(map.numGaussians());
   map.forEachCell([&](const CellView& c) {
     const bool wanted =
         options.occupied_only ? isOccupiedGaussian(map, c) : c.stats && c.stats->hasGaussian();
@@ -49,11 +50,27 @@ GaussianLookup::GaussianLookup(const GridGeometry& geometry, const std::vector<G
 }
 
 void GaussianLookup::index(bool nearest_means) {
+  gaussians_.shrink_to_fit();  // a level's bytes are counted per Gaussian (MapPyramid)
   std::sort(gaussians_.begin(), gaussians_.end(),
             [](const PreparedGaussian& a, const PreparedGaussian& b) { return a.cell < b.cell; });
+  for (const PreparedGaussian& g : gaussians_) {
+    const uint32_t offset = offsetInBlock(g.cell);
+    by_cell_.getOrCreate(blockOf(g.cell)).occupied[offset >> 6] |= uint64_t(1) << (offset & 63);
+  }
+  uint32_t next = 0;  // each block's share of slots_, in whatever order the hash keeps
+  for (auto& [key, block] : by_cell_.blocks()) {
+    block->first = next;
+    uint16_t count = 0;
+    for (size_t w = 0; w < IndexBlock::kWords; ++w) {
+      block->before[w] = count;
+      count = uint16_t(count + __builtin_popcountll(block->occupied[w]));
+    }
+    next += count;
+  }
+  slots_.assign(gaussians_.size(), kNone);
   for (uint32_t i = 0; i < gaussians_.size(); ++i) {
     const CellIndex& cell = gaussians_[i].cell;
-    by_cell_.getOrCreate(blockOf(cell)).index[offsetInBlock(cell)] = i;
+    slots_[by_cell_.find(blockOf(cell))->slot(offsetInBlock(cell))] = i;
   }
   if (!nearest_means) return;
   std::vector<Eigen::Vector3d> means;
@@ -65,8 +82,17 @@ void GaussianLookup::index(bool nearest_means) {
 const PreparedGaussian* GaussianLookup::find(const CellIndex& cell) const {
   const IndexBlock* block = by_cell_.find(blockOf(cell));
   if (!block) return nullptr;
-  const uint32_t i = block->index[offsetInBlock(cell)];
-  return i == kNone ? nullptr : &gaussians_[i];
+  const uint32_t s = block->slot(offsetInBlock(cell));
+  return s == kNone ? nullptr : &gaussians_[slots_[s]];
+}
+
+size_t GaussianLookup::memoryBytes() const {
+  return gaussians_.capacity() * sizeof(PreparedGaussian) +
+         slots_.capacity() * sizeof(uint32_t) + by_cell_.memoryBytes();
+}
+
+size_t GaussianLookup::maxBytesPerGaussian() {
+  return sizeof(PreparedGaussian) + sizeof(uint32_t) + BlockGrid<IndexBlock>::kBytesPerBlock;
 }
 
 const PreparedGaussian* GaussianLookup::findAt(const Eigen::Vector3d& point) const {

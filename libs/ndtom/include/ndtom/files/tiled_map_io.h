@@ -62,6 +62,7 @@ class TiledMapFile {
   /// std::runtime_error (unreadable file), naming `path`.
   explicit TiledMapFile(std::string path);
 
+  const std::string& path() const { return path_; }
   const MapOptions& options() const { return options_; }
   int tileBlocks() const { return tile_blocks_; }
   double tileEdgeMetres() const;
@@ -74,11 +75,13 @@ class TiledMapFile {
   /// Every tile that meets `region`, in one map.
   NdtMap loadRegion(const Eigen::AlignedBox3d& region,
                     uint64_t memory_budget = defaultMemoryBudget()) const;
-  /// The whole map.
+  /// The whole map. Past the budget: MemoryBudgetError naming the file and the tile.
   NdtMap loadAll(uint64_t memory_budget = defaultMemoryBudget()) const;
   /// Copies a loaded tile's cells into `map` (same options; its cells must be unknown there):
   /// for callers that keep tiles resident by region.
   static void addTile(const NdtMap& tile, NdtMap& map);
+  /// "PATH tile (x, y, z)": how errors name a tile.
+  std::string tileSource(const TileInfo& tile) const;
 
  private:
   NdtMap loadTilesWhere(const std::function<bool(const CellIndex&)>& wanted,

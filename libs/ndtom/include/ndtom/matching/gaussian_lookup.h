@@ -56,6 +56,10 @@ class GaussianLookup {
   bool empty() const { return gaussians_.empty(); }
   /// In ascending cell order: deterministic whatever the map's insertion history.
   const std::vector<PreparedGaussian>& gaussians() const { return gaussians_; }
+  /// Heap bytes of the Gaussians and their index (not the k-d tree).
+  size_t memoryBytes() const;
+  /// Most bytes one Gaussian can add to memoryBytes() (one block of its own), for budgets.
+  static size_t maxBytesPerGaussian();
 
   /// The Gaussian of a cell; nullptr if the cell has none.
   const PreparedGaussian* find(const CellIndex& cell) const;
@@ -74,15 +78,26 @@ class GaussianLookup {
   static constexpr uint32_t kNone = UINT32_MAX;
   /// Sorts gaussians_ by cell and builds the cell index and, if asked, the k-d tree.
   void index(bool nearest_means);
-  /// Indices into gaussians_ of the cells of one block, kNone where there is no Gaussian.
+  /// Which cells of one block have a Gaussian, a bit each, and where the block's entries
+  /// start in slots_: 88 bytes a block, not an index per cell (2 KB), so a sparse map (one
+  /// Gaussian a block, at every pyramid level) costs its Gaussians rather than 2 KB each.
   struct IndexBlock {
-    std::array<uint32_t, kBlockCells> index;
-    IndexBlock() { index.fill(kNone); }
+    static constexpr size_t kWords = kBlockCells / 64;
+    std::array<uint64_t, kWords> occupied{};
+    std::array<uint16_t, kWords> before{};  ///< cells with a Gaussian in the earlier words
+    uint32_t first = 0;
+    /// The slot of the cell at `offset` in its block, kNone if it has no Gaussian.
+    uint32_t slot(uint32_t offset) const {
+      const uint64_t word = occupied[offset >> 6], bit = uint64_t(1) << (offset & 63);
+      if (!(word & bit)) return kNone;
+      return first + before[offset >> 6] + uint32_t(__builtin_popcountll(word & (bit - 1)));
+    }
   };
 
   GridGeometry geometry_;
   std::vector<PreparedGaussian> gaussians_;
   BlockGrid<IndexBlock> by_cell_;  // blocks, not a hash per cell: neighbours share a block
+  std::vector<uint32_t> slots_;     // indices into gaussians_, block by block
   PointKdTree means_;
 };
 
@@ -104,8 +119,8 @@ void GaussianLookup::forEachAround(const CellIndex& centre, F&& f) const {
         for (int32_t z = z0; z <= z1; ++z)
           for (int32_t y = y0; y <= y1; ++y)
             for (int32_t x = x0; x <= x1; ++x) {
-              const uint32_t i = block->index[offsetInBlock({x, y, z})];
-              if (i != kNone) f(gaussians_[i]);
+              const uint32_t s = block->slot(offsetInBlock({x, y, z}));
+              if (s != kNone) f(gaussians_[slots_[s]]);
             }
       }
 }

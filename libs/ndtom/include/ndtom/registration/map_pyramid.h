@@ -17,7 +17,8 @@ class MapPyramid {
  public:
   /// Levels `factors` times coarser than `map` (each ≥ 1, given coarse to fine, e.g.
   /// {16, 8, 4, 2, 1}), built on up to `threads` threads (one per level; the same levels for
-  /// any count); throws std::invalid_argument for a bad list.
+  /// any count); throws std::invalid_argument for a bad list, and MemoryBudgetError when
+  /// the levels with the map would pass the map's memory budget (ScanOptions::memory_budget).
   MapPyramid(const NdtMap& map, const std::vector<int>& factors, int threads = 1);
 
   size_t size() const { return levels_.size(); }
