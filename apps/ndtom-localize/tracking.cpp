@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 #include "ndtom/localization/motion_prediction.h"
 #include "ndtom_apps/process_clock.h"
@@ -39,13 +40,20 @@ class Tracker {
   void localize(const apps::Scan& scan, ScanRecord& record, TrackingResult& totals) {
     const std::vector<Eigen::Vector3d> points = apps::pointsInFrame(scan);
     record.points = points.size();
-    const bool search_everywhere =
+    bool search_everywhere =
         !localized_ || settings_.global_every_scan ||
         (settings_.relocalize_after > 0 && lost_in_a_row_ >= settings_.relocalize_after);
     if (!search_everywhere) {
       record.prediction = predict(scan);
       if (settings_.prepare_map) settings_.prepare_map(record.prediction->translation());
       track(targetFor(*record.prediction), points, record);
+    }
+    if (unconfirmed_) {
+      unconfirmed_ = false;
+      if (record.outcome == Outcome::Lost) {
+        withdraw(totals.scans.back(), "the next scan could not be tracked from it");
+        search_everywhere = true;  // this scan searched for at once
+      }
     }
     if (record.outcome == Outcome::Lost && search_everywhere) {
       if (settings_.prepare_map) settings_.prepare_map(std::nullopt);
@@ -58,7 +66,10 @@ class Tracker {
     } else {
       lost_in_a_row_ = 0;
     }
-    if (live_ && record.outcome != Outcome::Lost) extendLiveMap(scan, record);
+    // A pose found by a whole-map search stands once the next scan tracks from it: alone,
+    // a look-alike place (another city's street) can pass every check of one scan.
+    unconfirmed_ = record.outcome == Outcome::Relocalized && !settings_.global_every_scan;
+    if (live_ && record.outcome != Outcome::Lost && !unconfirmed_) extendLiveMap(scan, record);
     if (record.pose) {
       if (record.outcome == Outcome::Relocalized)
         motion_ = ConstantVelocity(*record.pose);  // the velocity before is unknown
@@ -132,6 +143,26 @@ class Tracker {
     localized_ = true;
   }
 
+  /// A relocalized scan whose pose the next scan did not confirm: lost, saying why.
+  static void withdraw(ScanRecord& record, const std::string& why) {
+    record.outcome = Outcome::Lost;
+    record.found_by.clear();
+    record.pose = record.prediction;
+    const Eigen::Vector3d t = record.result.pose.translation();
+    char at[96];
+    std::snprintf(at, sizeof at, "(%.2f, %.2f, %.2f)", t.x(), t.y(), t.z());
+    record.result.failure = std::string("global localization: the pose found at ") + at +
+                            " was not confirmed: " + why;
+  }
+
+ public:
+  /// After the last scan: a relocalization no scan could confirm is withdrawn.
+  void finish(TrackingResult& totals) {
+    if (unconfirmed_) withdraw(totals.scans.back(), "no scan came after it");
+    unconfirmed_ = false;
+  }
+
+ private:
   void accept(ScanRecord& record, Outcome outcome, const std::string& found_by) {
     record.outcome = outcome;
     record.found_by = found_by;
@@ -145,6 +176,7 @@ class Tracker {
   std::optional<LiveMap> live_;
   std::optional<Eigen::Isometry3d> last_odometry_;
   bool localized_;
+  bool unconfirmed_ = false;  // the last scan was relocalized: the next one confirms it
   int lost_in_a_row_ = 0;
 };
 
@@ -204,6 +236,7 @@ TrackingResult track(const ndtom::NdtMap& map, apps::ScanSource& source,
     out.scans.push_back(std::move(record));
     progress.update(out.scans.size(), points_done);
   }
+  tracker.finish(out);
   progress.finish();
   out.extended_map = tracker.extendedMap();
   out.seconds = apps::secondsSince(start);

@@ -10,6 +10,7 @@
 #include "mapper/mapper_run.h"
 #include "ndtom/files/map_io.h"
 #include "ndtom/files/tiled_map_io.h"
+#include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 #include "support/special_files.h"
 
@@ -235,6 +236,50 @@ TEST(LocalizeEndToEnd, AKidnappedStartIsFoundAgainAfterLostScans) {
   for (size_t k = 0; k < 4; ++k)
     EXPECT_LT((estimated[k].pose.translation() - f.reference[6 + k].pose.translation()).norm(),
               0.05);
+}
+
+// Issue #38: a whole-map search can find a look-alike place (another city's street) that
+// passes every check of one scan. Its pose stands only once the next scan tracks from it:
+// followed by a scan of nowhere in the map (scan 6 lifted 40 m), or by no scan, the found
+// pose is withdrawn, the scan lost, saying why; followed by scan 6 itself, it stands.
+TEST(LocalizeEndToEnd, AGlobalSearchPoseStandsOnlyWhenTheNextScanConfirmsIt) {
+  Fixture f;
+  const auto points = [](int i) {
+    std::vector<Eigen::Vector3d> p;
+    for (const Eigen::Vector3d& q : ndtom::io::readPcd(kLidar + "/full" + std::to_string(i) + ".pcd").points)
+      if (q.allFinite()) p.push_back(q);
+    return p;
+  };
+  const auto run = [&](const std::string& name, const std::vector<std::vector<Eigen::Vector3d>>& scans) {
+    const fs::path folder = f.dir / name;
+    fs::create_directories(folder);
+    std::ofstream times((folder / "times.txt").string());
+    for (size_t k = 0; k < scans.size(); ++k) {
+      ndtom::io::writePcdBinary((folder / ("full" + std::to_string(k) + ".pcd")).string(), scans[k]);
+      times << std::setprecision(12) << f.times[5 + k] << "\n";
+    }
+    times.close();
+    const std::string prefix = (f.dir / name).string() + "-out";
+    const ProgramRun r = runExecutable(
+        kLocalize, mapper_test::quoted(f.map) + " " + mapper_test::quoted(folder.string()) +
+                       " -o " + mapper_test::quoted(prefix) + " --no-pictures",
+        f.dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return readText(prefix + ".summary.json");
+  };
+  std::vector<Eigen::Vector3d> lifted = points(6);
+  for (Eigen::Vector3d& p : lifted) p.z() += 40;
+  const std::string nowhere = run("then-nowhere", {points(5), lifted});
+  EXPECT_EQ(jsonNumber(nowhere, "relocalized"), 0);
+  EXPECT_EQ(jsonNumber(nowhere, "lost"), 2);
+  EXPECT_NE(nowhere.find("was not confirmed: the next scan could not be tracked from it"),
+            std::string::npos) << nowhere;
+  const std::string alone = run("alone", {points(5)});
+  EXPECT_EQ(jsonNumber(alone, "lost"), 1);
+  EXPECT_NE(alone.find("was not confirmed: no scan came after it"), std::string::npos) << alone;
+  const std::string confirmed = run("confirmed", {points(5), points(6)});
+  EXPECT_EQ(jsonNumber(confirmed, "relocalized"), 1);
+  EXPECT_EQ(jsonNumber(confirmed, "localized"), 2);
 }
 
 TEST(LocalizeEndToEnd, BadCommandLinesAndInputsFailCleanly) {

@@ -4,6 +4,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <stdexcept>
 
@@ -12,6 +13,7 @@
 #include "ndtom/files/map_io.h"
 #include "ndtom/files/tiled_map_io.h"
 #include "ndtom/map/block_grid.h"
+#include "ndtom_internal/crc32.h"
 
 namespace redteam {
 namespace {
@@ -68,22 +70,40 @@ int run(const std::vector<std::string>& a) {
     return 0;
   }
   if (a.size() == 4 && a[0] == "scatter") {
+    // The loader (and setCell) refuse such a scatter: written with a marker value, whose
+    // raw f64 bits are then replaced in the file and its checksum made again.
     const ndtom::NdtMap in = ndtom::loadMap(a[1]);
     ndtom::MapOptions options = in.options();
     options.scan.memory_budget = kWriterBudget;
     ndtom::NdtMap out(options);
-    const double value = std::stod(a[3]);
+    const double marker = 0.00123456789012345, value = std::stod(a[3]);
     size_t changed = 0;
     in.forEachCell([&](const ndtom::CellView& c) {
       ndtom::CellStats stats = c.stats ? *c.stats : ndtom::CellStats{};
       if (stats.hasGaussian()) {
-        stats.scatter = Eigen::Matrix3d::Identity() * value;
+        stats.scatter = Eigen::Matrix3d::Identity() * marker;
         ++changed;
       }
       out.setCell(c.index, c.logodds, stats);
     });
-    ndtom::saveMap(out, a[2]);
-    std::printf("wrote %s: %zu Gaussians with scatter diag(%g)\n", a[2].c_str(), changed, value);
+    std::vector<uint8_t> bytes = ndtom::encodeMap(out);
+    uint8_t from[8], to[8];
+    std::memcpy(from, &marker, 8);
+    std::memcpy(to, &value, 8);
+    size_t replaced = 0;
+    for (size_t i = 0; i + 8 <= bytes.size() - 4; ++i)
+      if (std::memcmp(&bytes[i], from, 8) == 0) {
+        std::memcpy(&bytes[i], to, 8);
+        ++replaced;
+        i += 7;
+      }
+    const uint32_t crc = ndtom::crc32(bytes.data(), bytes.size() - 4);
+    for (int k = 0; k < 4; ++k) bytes[bytes.size() - 4 + k] = uint8_t(crc >> (8 * k));
+    std::FILE* f = std::fopen(a[2].c_str(), "wb");
+    if (!f || std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size() || std::fclose(f) != 0)
+      throw std::runtime_error("cannot write " + a[2]);
+    std::printf("wrote %s: %zu Gaussians with scatter diag(%g) (%zu values)\n", a[2].c_str(),
+                changed, value, replaced);
     return 0;
   }
   throw std::invalid_argument("--write: unknown command (see hostile_maps.h)");
