@@ -51,14 +51,18 @@ void RegionMap::load(const ndtom::TileInfo& tile) {
 void RegionMap::drop(const std::vector<ndtom::CellIndex>& tiles) {
   if (tiles.empty()) return;
   const int b = file_.tileBlocks();
-  if (double(tiles.size()) * b * b * b <= double(map_.numBlocks())) {
-    for (const ndtom::CellIndex& t : tiles)
+  const size_t tile_blocks = size_t(b) * size_t(b) * size_t(b);
+  if (tiles.size() * tile_blocks <= map_.numBlocks()) {
+    for (const ndtom::CellIndex& t : tiles) {
+      blocks_examined_ += tile_blocks;  // extractBlockRange looks each one up
       ndtom::extractBlockRange(map_, {t.x * b, t.y * b, t.z * b},
                                {t.x * b + b - 1, t.y * b + b - 1, t.z * b + b - 1});
+    }
   } else {
     const std::unordered_set<ndtom::CellIndex, ndtom::CellIndexHash> far(tiles.begin(),
                                                                          tiles.end());
     ndtom::extractBlocks(map_, [&](const ndtom::CellIndex& block) {
+      ++blocks_examined_;
       return far.count(ndtom::tileOfBlock(block, b)) > 0;
     });
   }

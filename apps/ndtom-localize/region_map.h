@@ -36,6 +36,9 @@ class RegionMap {
   size_t residentTiles() const { return resident_.size(); }
   size_t loads() const { return loads_; }
   size_t drops() const { return drops_; }
+  /// Blocks the drops have looked at, for tests of their scaling: at most the resident
+  /// blocks once per call, however many tiles it drops.
+  size_t blocksExamined() const { return blocks_examined_; }
 
  private:
   double distanceXY(const ndtom::CellIndex& tile, const Eigen::Vector3d& p) const;
@@ -46,7 +49,7 @@ class RegionMap {
   double radius_;
   ndtom::NdtMap map_;
   std::set<ndtom::CellIndex> resident_;
-  size_t loads_ = 0, drops_ = 0;
+  size_t loads_ = 0, drops_ = 0, blocks_examined_ = 0;
 };
 
 }  // namespace ndtom::localizer

@@ -13,6 +13,7 @@
 #include "ndtom/scale/distributed_insert.h"
 #include "map_gather.h"
 #include "mpi_count_exchange.h"
+#include "ndtom_apps/budget_message.h"
 #include "ndtom_apps/height_colors.h"
 #include "ndtom_apps/json_writer.h"
 #include "ndtom_apps/map_outputs.h"
@@ -99,16 +100,6 @@ struct ScanLoop {
   RankFigures figures;
 };
 
-// The core names its option memory_budget; here it is --memory-budget, in MB (ndtom-map's
-// wording).
-std::string budgetMessage(const ndtom::MemoryBudgetError& e) {
-  std::string what = e.what();
-  const std::string core = "(memory_budget)";
-  const size_t at = what.rfind(core);
-  if (at != std::string::npos) what.replace(at, core.size(), "(--memory-budget, in MB)");
-  return what;
-}
-
 // One scan into this process's tiles: a share of its rays walked whole, counts traded with the
 // other processes (--ray-share rays), or every ray's stretches through its own tiles. Errors
 // name the scan: `index` (from 0, in the input's order), its name and the input.
@@ -127,7 +118,7 @@ ndtom::InsertionReport insertIntoOwnTiles(ndtom::NdtMap& part, const apps::Scan&
   } catch (const std::invalid_argument& e) {
     throw apps::InputError(where() + e.what());
   } catch (const ndtom::MemoryBudgetError& e) {
-    throw apps::InputError(where() + budgetMessage(e));
+    throw apps::InputError(where() + apps::budgetMessage(e));
   } catch (const std::runtime_error& e) {  // another process failed on this scan
     throw apps::InputError(where() + e.what());
   }

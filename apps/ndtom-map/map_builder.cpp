@@ -4,6 +4,7 @@
 #include <future>
 
 #include "ndtom/map/map_queries.h"
+#include "ndtom_apps/budget_message.h"
 #include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 
@@ -35,15 +36,6 @@ PassResult describeMap(MappingResult& result) {
     countMap(result.map, r);
   r.rss_bytes = apps::currentRssBytes();
   return r;
-}
-
-// The core names its option memory_budget; here it is --memory-budget, in MB.
-std::string budgetMessage(const ndtom::MemoryBudgetError& e) {
-  std::string what = e.what();
-  const std::string core = "(memory_budget)";
-  const size_t at = what.rfind(core);
-  if (at != std::string::npos) what.replace(at, core.size(), "(--memory-budget, in MB)");
-  return what;
 }
 
 // The scans of a source, the next one read while the current one is inserted when more than
@@ -96,7 +88,7 @@ void insertAll(apps::ScanSource& source, const ndtom::ScanOptions& insert,
     } catch (const std::invalid_argument& e) {  // a bad sensor origin; the map is unchanged
       throw apps::InputError(scan->name + ": " + e.what());
     } catch (const ndtom::MemoryBudgetError& e) {
-      throw apps::InputError(scan->name + " in " + input + ": " + budgetMessage(e));
+      throw apps::InputError(scan->name + " in " + input + ": " + apps::budgetMessage(e));
     }
     result.insert_seconds.push_back(apps::secondsSince(start));
     if (first_pass) result.sensor_path.push_back(scan->sensor_origin);

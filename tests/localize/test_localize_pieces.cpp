@@ -31,17 +31,17 @@ Isometry3d motionOf(const Vector3d& t, double angle, const Vector3d& axis) {
   return m;
 }
 
-// A flat map of 0.4 m cells over [0, 96)² m: in each 3.2 m block of the ground, 1 to 30 free
+// A flat map of 0.4 m cells over [0, 3.2·side)² m (96 m): in each 3.2 m block of the ground, 1 to 30 free
 // cells (so that tiles differ in bytes) and, in one block in three, a Gaussian.
-ndtom::NdtMap groundMap() {
+ndtom::NdtMap groundMap(int side = 30) {
   ndtom::MapOptions o;
   o.resolution = 0.4;
   ndtom::NdtMap map(o);
   ndtom::CellStats gaussian;
   gaussian.n = 5;
   gaussian.scatter = Eigen::Matrix3d::Identity() * 0.01;
-  for (int bx = 0; bx < 30; ++bx)
-    for (int by = 0; by < 30; ++by) {
+  for (int bx = 0; bx < side; ++bx)
+    for (int by = 0; by < side; ++by) {
       const int cells = 1 + (bx * 7 + by * 13) % 30;
       for (int i = 0; i < cells; ++i)
         map.setCell({bx * 8 + i % 8, by * 8 + i / 8, 0}, -0.5f, ndtom::CellStats{});
@@ -255,6 +255,19 @@ TEST(RegionMap, ManyTilesDroppedAtOnceAndTheBudgetNamesTheTile) {
   EXPECT_EQ(region.map().numCells(), cells);
   region.map().forEachBlock([&](const ndtom::CellIndex& b) { EXPECT_TRUE(kept.count(b)); });
   EXPECT_EQ(region.drops(), region.file().tiles().size() - tiles);
+
+  // The drops' work is the resident blocks once, not once per dropped tile: with four times
+  // the tiles (a map twice as wide), four times the blocks examined, not sixteen.
+  const std::string wide_path = (dir / "ground-wide.ndtomtiles").string();
+  ndtom::saveTiledMap(groundMap(60), wide_path, 1);
+  ndtom::localizer::RegionMap wide(wide_path, 10);
+  wide.keepEverything();
+  const size_t wide_blocks = wide.map().numBlocks();
+  wide.keepAround(p);
+  EXPECT_GT(wide.drops(), 3 * region.drops());
+  EXPECT_LE(region.blocksExamined(), whole.numBlocks());
+  EXPECT_LE(wide.blocksExamined(), wide_blocks);
+  EXPECT_LE(wide.blocksExamined(), 5 * region.blocksExamined());
 
   // The same file under a budget that holds a few tiles: refused, naming file and tile,
   // by the region and by the whole-file loader.
