@@ -45,6 +45,9 @@ struct Context {
   /// Issue #38's programs (empty or missing: their cases are left out), the plugin for MRPT's
   /// programs, and this harness (its --write makes hostile maps in a child process).
   std::string localizer, worldgen, rawlog_from_pcd, mpi_mapper, plugin, self;
+  /// Loaded before the plugin into MRPT's programs: the ASan runtime in the sanitizer build
+  /// (an instrumented plugin in an uninstrumented program needs it first).
+  std::string preload;
   /// A fresh empty folder under `work`.
   std::string folder(const std::string& name) const;
   /// A folder of the lidar's first `scans` PCDs and their poses.txt; returns it.

@@ -6,7 +6,7 @@
 //   ndtom-redteam --mapper PATH --probe PATH [--work DIR] [--only PREFIX] [--sample N]
 //                 [--no-address-limit] [--no-memory-check] [--csv FILE]
 //                 [--localizer PATH] [--worldgen PATH] [--rawlog-from-pcd PATH]
-//                 [--mpi-mapper PATH] [--plugin LIBRARY]
+//                 [--mpi-mapper PATH] [--plugin LIBRARY] [--preload LIBRARY]
 //
 // Issue #38's categories (8-10) need ndtom-localize, ndtom-worldgen, ndtom-rawlog-from-pcd
 // and the plugin (for MRPT's programs); the cases of a program not given are left out.
@@ -45,7 +45,7 @@ const char* kColumnNames[kColumns] = {"clean",         "crash",        "hang",
 
 struct Options {
   std::string mapper, probe, work = "/tmp/ndtom-redteam", only, csv;
-  std::string localizer, worldgen, rawlog_from_pcd, mpi_mapper, plugin;
+  std::string localizer, worldgen, rawlog_from_pcd, mpi_mapper, plugin, preload;
   int sample = 1;
   bool address_limit = true, memory_check = true;
 };
@@ -105,6 +105,8 @@ Options parse(int argc, char** argv) {
       o.mpi_mapper = value();
     else if (a == "--plugin")
       o.plugin = value();
+    else if (a == "--preload")
+      o.preload = value();
     else if (a == "--work")
       o.work = value();
     else if (a == "--only")
@@ -164,6 +166,7 @@ int main(int argc, char** argv) {
   c.rawlog_from_pcd = opt.rawlog_from_pcd;
   c.mpi_mapper = opt.mpi_mapper;
   c.plugin = opt.plugin;
+  c.preload = opt.preload;
   c.self = std::filesystem::read_symlink("/proc/self/exe").string();
   std::vector<Case> cases;
   for (auto* make : {pcdHeaderCases, geometryMemoryCases, loaderCountCases, writableCases,
