@@ -45,6 +45,8 @@ std::vector<Case> optionCases(const Context& c) {
       {"--ellipsoid-detail", "4", "--max-ellipsoids", "10000000"}, Expect::Either, 120, false);
   map("--ellipsoid-detail 4 --resolution 0.1", {"--ellipsoid-detail", "4", "--resolution", "0.1"},
       Expect::Either, 120, false);
+  // The widest picture allowed: supersampled, its 3D canvas alone took 1.25 GB.
+  map("--image-width 8000", {"--image-width", "8000"}, Expect::Accept, 120, false);
   // Class 2: a large eigenvalue floor makes every ellipse huge: the pictures' work grows.
   map("--min-eigen-abs 1e3 (pictures)", {"--min-eigen-abs", "1e3"}, Expect::Either, 30, false);
   map("--min-eigen-abs 10 (pictures)", {"--min-eigen-abs", "10"}, Expect::Either, 30, false);

@@ -13,7 +13,9 @@ namespace ndtom::apps {
 namespace {
 
 constexpr double kAzimuthDeg = -75, kElevationDeg = 40, kFieldOfViewDeg = 30;
-constexpr int kSupersampling = 2;  // render larger, then shrink: smooth edges
+// Rendered twice as large, then shrunk (smooth edges), while the canvas (colour and depth,
+// 7 bytes a pixel) stays within this: --image-width 8000 took 1.5 GB supersampled.
+constexpr double kMaxSupersampledPixels = 40e6;
 const cv::Vec3b kBackground(255, 255, 255);
 constexpr int kMinViewWidth = 480;  // px: room for the caption
 
@@ -86,7 +88,7 @@ cv::Mat fitInto(const cv::Mat& image, cv::Size size, int min_width) {
 
 cv::Mat renderGaussians(const std::vector<mrpt_ndtom::DrawnGaussian>& drawn, double quantiles,
                         const std::vector<Eigen::Vector3d>& sensor_path, const Box& box,
-                        cv::Size size) {
+                        cv::Size size, int view_width) {
   const Eigen::Vector3d centre = (box.lo + box.hi) / 2;
   const double radius = std::max(0.5 * (box.hi - box.lo).norm(), 0.5);
   const double distance = 1.05 * radius / std::sin(kFieldOfViewDeg / 2 * M_PI / 180);
@@ -97,7 +99,7 @@ cv::Mat renderGaussians(const std::vector<mrpt_ndtom::DrawnGaussian>& drawn, dou
   for (const auto& d : drawn)
     canvas.drawEllipsoid(d.gaussian.mean, k2 * d.gaussian.covariance,
                          cv::Vec3b(d.color.B, d.color.G, d.color.R));
-  canvas.drawPolyline(sensor_path, cv::Vec3b(0, 0, 0), 2 * kSupersampling);
+  canvas.drawPolyline(sensor_path, cv::Vec3b(0, 0, 0), 2 * size.width / view_width);
   return canvas.image();
 }
 
@@ -123,7 +125,8 @@ cv::Mat renderObliqueView(const ndtom::NdtMap& map,
                           const std::vector<Eigen::Vector3d>& sensor_path, int width) {
   const cv::Size view(viewWidth(width), int(0.7 * viewWidth(width)));
   const cv::Mat rendered =
-      renderGaussians(drawn, o.quantiles, sensor_path, robustBox(map), view * kSupersampling);
+      renderGaussians(drawn, o.quantiles, sensor_path, robustBox(map),
+                      view * (4.0 * view.area() <= kMaxSupersampledPixels ? 2 : 1), view.width);
   const HeightScale scale{o.color_min_z, o.color_max_z};
   char title[160];
   std::snprintf(title, sizeof title, "NDT-OM, 3D view: %zu Gaussians, %g m cells",
