@@ -138,8 +138,10 @@ TEST(GaussianLookup, ForEachAroundVisitsExactlyTheNeighbourCellsGaussians) {
 }
 
 // Issue #38: the index took 2 KB per block, so a map of one Gaussian a block (and each
-// pyramid level over it) cost 2 KB a Gaussian. Now a bit per cell: a full block (every
-// offset's rank) and scattered blocks are found exactly, in a few hundred bytes a Gaussian.
+// pyramid level over it) cost 2 KB a Gaussian. Now a bit per cell and its rank below 32
+// Gaussians a block, an index per cell from 32: a full block, blocks of 31 and 32 spread over
+// every word of the mask, and scattered blocks are all found exactly, in a few hundred bytes
+// a Gaussian.
 TEST(GaussianLookup, SparseAndFullBlocksAreIndexedByRank) {
   ndtom::MapOptions o;
   o.resolution = 0.5;
@@ -152,9 +154,11 @@ TEST(GaussianLookup, SparseAndFullBlocksAreIndexedByRank) {
   for (int i = 0; i < 8; ++i)  // block (0, 0, 0), every cell
     for (int j = 0; j < 8; ++j)
       for (int k = 0; k < 8; ++k) cells.insert({i, j, k});
+  for (const int count : {31, 32})  // either side of the dense threshold, every mask word
+    for (int k = 0; k < count; ++k) cells.insert({8 * count + k % 8, (3 * k) % 8, k / 4});
   std::mt19937 rng(4);
   std::uniform_int_distribution<int> block(-200, 200), offset(0, 7);
-  while (cells.size() < 512 + 3000)  // one cell in each of 3000 other blocks
+  while (cells.size() < 512 + 63 + 3000)  // one cell in each of 3000 other blocks
     cells.insert({16 * block(rng) + offset(rng) + 8, 8 * block(rng) + offset(rng),
                   8 * (block(rng) % 4) + offset(rng)});
   for (const auto& c : cells) map.setCell(c, 0.f, stats);

@@ -57,20 +57,32 @@ void GaussianLookup::index(bool nearest_means) {
     const uint32_t offset = offsetInBlock(g.cell);
     by_cell_.getOrCreate(blockOf(g.cell)).occupied[offset >> 6] |= uint64_t(1) << (offset & 63);
   }
-  uint32_t next = 0;  // each block's share of slots_, in whatever order the hash keeps
+  uint32_t next = 0;  // each sparse block's share of slots_, in whatever order the hash keeps
   for (auto& [key, block] : by_cell_.blocks()) {
-    block->first = next;
-    uint16_t count = 0;
+    uint32_t count = 0;
     for (size_t w = 0; w < IndexBlock::kWords; ++w) {
-      block->before[w] = count;
-      count = uint16_t(count + __builtin_popcountll(block->occupied[w]));
+      block->before[w] = uint16_t(count);
+      count += popcount(block->occupied[w]);
     }
-    next += count;
+    if (count >= kDenseFrom) {
+      block->dense.assign(kBlockCells, kNone);
+    } else {
+      block->first = next;
+      next += count;
+    }
   }
-  slots_.assign(gaussians_.size(), kNone);
+  slots_.assign(next, kNone);
   for (uint32_t i = 0; i < gaussians_.size(); ++i) {
     const CellIndex& cell = gaussians_[i].cell;
-    slots_[by_cell_.find(blockOf(cell))->slot(offsetInBlock(cell))] = i;
+    IndexBlock& block = *by_cell_.find(blockOf(cell));
+    const uint32_t offset = offsetInBlock(cell);
+    if (!block.dense.empty()) {
+      block.dense[offset] = i;
+    } else {
+      const uint64_t bit = uint64_t(1) << (offset & 63);
+      slots_[block.first + block.before[offset >> 6] +
+             popcount(block.occupied[offset >> 6] & (bit - 1))] = i;
+    }
   }
   if (!nearest_means) return;
   std::vector<Eigen::Vector3d> means;
@@ -82,17 +94,20 @@ void GaussianLookup::index(bool nearest_means) {
 const PreparedGaussian* GaussianLookup::find(const CellIndex& cell) const {
   const IndexBlock* block = by_cell_.find(blockOf(cell));
   if (!block) return nullptr;
-  const uint32_t s = block->slot(offsetInBlock(cell));
-  return s == kNone ? nullptr : &gaussians_[slots_[s]];
+  const uint32_t i = block->gaussianAt(offsetInBlock(cell), slots_);
+  return i == kNone ? nullptr : &gaussians_[i];
 }
 
 size_t GaussianLookup::memoryBytes() const {
+  size_t dense = 0;
+  for (const auto& [key, block] : by_cell_.blocks()) dense += block->dense.capacity();
   return gaussians_.capacity() * sizeof(PreparedGaussian) +
-         slots_.capacity() * sizeof(uint32_t) + by_cell_.memoryBytes();
+         (slots_.capacity() + dense) * sizeof(uint32_t) + by_cell_.memoryBytes();
 }
 
 size_t GaussianLookup::maxBytesPerGaussian() {
-  return sizeof(PreparedGaussian) + sizeof(uint32_t) + BlockGrid<IndexBlock>::kBytesPerBlock;
+  return sizeof(PreparedGaussian) + sizeof(uint32_t) + BlockGrid<IndexBlock>::kBytesPerBlock +
+         kBlockCells * sizeof(uint32_t) / kDenseFrom;
 }
 
 const PreparedGaussian* GaussianLookup::findAt(const Eigen::Vector3d& point) const {

@@ -78,26 +78,42 @@ class GaussianLookup {
   static constexpr uint32_t kNone = UINT32_MAX;
   /// Sorts gaussians_ by cell and builds the cell index and, if asked, the k-d tree.
   void index(bool nearest_means);
-  /// Which cells of one block have a Gaussian, a bit each, and where the block's entries
-  /// start in slots_: 88 bytes a block, not an index per cell (2 KB), so a sparse map (one
-  /// Gaussian a block, at every pyramid level) costs its Gaussians rather than 2 KB each.
+  /// Inline: without -mpopcnt (Debian's x86-64 baseline) the builtin is a call into libgcc.
+  static uint32_t popcount(uint64_t x) {
+#ifdef __POPCNT__
+    return uint32_t(__builtin_popcountll(x));
+#else
+    x = x - ((x >> 1) & 0x5555555555555555ULL);
+    x = (x & 0x3333333333333333ULL) + ((x >> 2) & 0x3333333333333333ULL);
+    x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0FULL;
+    return uint32_t((x * 0x0101010101010101ULL) >> 56);
+#endif
+  }
+  /// A block with this many Gaussians keeps an index per cell (2 KB, 64 bytes a Gaussian at
+  /// most): one load per lookup, as registration's inner loop wants.
+  static constexpr uint32_t kDenseFrom = 32;
+  /// The cells of one block with a Gaussian, a bit each. A sparser block finds a Gaussian
+  /// by the rank of its bit in slots_ (112 bytes a block, not 2 KB): a map of one Gaussian a
+  /// block, at every pyramid level, costs its Gaussians, not 2 KB each.
   struct IndexBlock {
     static constexpr size_t kWords = kBlockCells / 64;
     std::array<uint64_t, kWords> occupied{};
     std::array<uint16_t, kWords> before{};  ///< cells with a Gaussian in the earlier words
-    uint32_t first = 0;
-    /// The slot of the cell at `offset` in its block, kNone if it has no Gaussian.
-    uint32_t slot(uint32_t offset) const {
+    uint32_t first = 0;                     ///< where its Gaussians start in slots_
+    std::vector<uint32_t> dense;            ///< index per cell, for kDenseFrom Gaussians on
+    /// The index in gaussians_ of the cell at `offset`, kNone if it has no Gaussian.
+    uint32_t gaussianAt(uint32_t offset, const std::vector<uint32_t>& slots) const {
+      if (!dense.empty()) return dense[offset];
       const uint64_t word = occupied[offset >> 6], bit = uint64_t(1) << (offset & 63);
       if (!(word & bit)) return kNone;
-      return first + before[offset >> 6] + uint32_t(__builtin_popcountll(word & (bit - 1)));
+      return slots[first + before[offset >> 6] + popcount(word & (bit - 1))];
     }
   };
 
   GridGeometry geometry_;
   std::vector<PreparedGaussian> gaussians_;
   BlockGrid<IndexBlock> by_cell_;  // blocks, not a hash per cell: neighbours share a block
-  std::vector<uint32_t> slots_;     // indices into gaussians_, block by block
+  std::vector<uint32_t> slots_;     // indices into gaussians_, sparse block by sparse block
   PointKdTree means_;
 };
 
@@ -119,8 +135,8 @@ void GaussianLookup::forEachAround(const CellIndex& centre, F&& f) const {
         for (int32_t z = z0; z <= z1; ++z)
           for (int32_t y = y0; y <= y1; ++y)
             for (int32_t x = x0; x <= x1; ++x) {
-              const uint32_t s = block->slot(offsetInBlock({x, y, z}));
-              if (s != kNone) f(gaussians_[slots_[s]]);
+              const uint32_t i = block->gaussianAt(offsetInBlock({x, y, z}), slots_);
+              if (i != kNone) f(gaussians_[i]);
             }
       }
 }
