@@ -1,4 +1,3 @@
-#include "ndtom/scale/block_moves.h"
 #include "region_map.h"
 
 #include <cmath>
@@ -7,6 +6,7 @@
 
 #include "ndtom/map/memory_budget.h"
 #include "ndtom/map/tile_index.h"
+#include "ndtom/scale/block_moves.h"
 
 namespace ndtom::localizer {
 

@@ -151,8 +151,8 @@ class Tracker {
     const Eigen::Vector3d t = record.result.pose.translation();
     char at[96];
     std::snprintf(at, sizeof at, "(%.2f, %.2f, %.2f)", t.x(), t.y(), t.z());
-    record.result.failure = std::string("global localization: the pose found at ") + at +
-                            " was not confirmed: " + why;
+    record.result.failure =
+        std::string("global localization: the pose found at ") + at + " was not confirmed: " + why;
   }
 
  public:

@@ -9,10 +9,10 @@
 #include <cstdio>
 #include <optional>
 
-#include "ndtom/map/memory_budget.h"
-#include "ndtom/scale/distributed_insert.h"
 #include "map_gather.h"
 #include "mpi_count_exchange.h"
+#include "ndtom/map/memory_budget.h"
+#include "ndtom/scale/distributed_insert.h"
 #include "ndtom_apps/budget_message.h"
 #include "ndtom_apps/height_colors.h"
 #include "ndtom_apps/json_writer.h"
@@ -103,8 +103,8 @@ struct ScanLoop {
 // One scan into this process's tiles: a share of its rays walked whole, counts traded with the
 // other processes (--ray-share rays), or every ray's stretches through its own tiles. Errors
 // name the scan: `index` (from 0, in the input's order), its name and the input.
-ndtom::InsertionReport insertIntoOwnTiles(ndtom::NdtMap& part, const apps::Scan& scan,
-                                          size_t index, const std::string& input,
+ndtom::InsertionReport insertIntoOwnTiles(ndtom::NdtMap& part, const apps::Scan& scan, size_t index,
+                                          const std::string& input,
                                           const ndtom::ScanOptions& insert,
                                           const ndtom::TileOwnership& owned, RayShare share,
                                           MpiCountExchange& exchange) {
@@ -113,7 +113,8 @@ ndtom::InsertionReport insertIntoOwnTiles(ndtom::NdtMap& part, const apps::Scan&
   };
   try {
     return share == RayShare::Rays
-               ? ndtom::insertScanPart(part, scan.points_world, scan.sensor_origin, insert, owned, exchange)
+               ? ndtom::insertScanPart(part, scan.points_world, scan.sensor_origin, insert, owned,
+                                       exchange)
                : ndtom::insertScanPart(part, scan.points_world, scan.sensor_origin, insert, owned);
   } catch (const std::invalid_argument& e) {
     throw apps::InputError(where() + e.what());

@@ -14,7 +14,8 @@ constexpr int kHeader = 3 + 16 + 1 + 1 + 1;
 
 void broadcast(void* data, uint64_t bytes, MPI_Comm comm) {
   auto* p = static_cast<char*>(data);
-  forEachMpiPiece(bytes, [&](uint64_t offset, int n) { MPI_Bcast(p + offset, n, MPI_BYTE, 0, comm); });
+  forEachMpiPiece(bytes,
+                  [&](uint64_t offset, int n) { MPI_Bcast(p + offset, n, MPI_BYTE, 0, comm); });
 }
 
 }  // namespace

@@ -143,9 +143,10 @@ int run(const MapperOptions& o) {
   map.renderOptions = apps::renderOptionsFor(mapping.map, apps::heightScaleOf(mapping.map),
                                              o.max_ellipsoids, o.ellipsoid_detail);
   if (!o.quiet && o.ellipsoid_detail > int(map.renderOptions.subdivisions))
-    std::fprintf(stderr, "ndtom-map: --ellipsoid-detail %d lowered to %u: the scene holds at most %zu triangles\n",
-                 o.ellipsoid_detail, map.renderOptions.subdivisions,
-                 mrpt_ndtom::kMaxSceneTriangles);
+    std::fprintf(
+        stderr,
+        "ndtom-map: --ellipsoid-detail %d lowered to %u: the scene holds at most %zu triangles\n",
+        o.ellipsoid_detail, map.renderOptions.subdivisions, mrpt_ndtom::kMaxSceneTriangles);
   map.setNdtMap(std::move(mapping.map));
   const OutputSettings output_settings = outputSettingsFor(o, insertion);
   const auto coarse = writeMapOutputs(map, mapping.sensor_path, output_settings, out, times);

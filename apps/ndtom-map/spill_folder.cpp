@@ -18,7 +18,8 @@ const std::string kTag = ".spill-";
 bool leftByDeadRun(const std::string& name, const std::string& stem) {
   if (name.rfind(stem + kTag, 0) != 0) return false;
   const std::string digits = name.substr(stem.size() + kTag.size());
-  if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
+  if (digits.empty() || digits.size() > 9 ||
+      digits.find_first_not_of("0123456789") != std::string::npos)
     return false;
   return ::kill(pid_t(std::stol(digits)), 0) != 0 && errno == ESRCH;
 }
@@ -27,7 +28,7 @@ bool leftByDeadRun(const std::string& name, const std::string& stem) {
 
 SpillFolder::SpillFolder(const std::string& prefix, const std::string& dir) {
   const fs::path base(prefix);
-  const fs::path parent = !dir.empty()                    ? fs::path(dir)
+  const fs::path parent = !dir.empty()                 ? fs::path(dir)
                           : base.parent_path().empty() ? fs::path(".")
                                                        : base.parent_path();
   // Checked before the work starts: the folder (created if missing), then a new folder in it.
@@ -47,8 +48,8 @@ SpillFolder::SpillFolder(const std::string& prefix, const std::string& dir) {
   path_ = (parent / (stem + kTag + std::to_string(::getpid()))).string();
   fs::remove_all(path_, ec);  // a killed run's with the same pid
   if (!fs::create_directory(path_, ec))
-    refuse("cannot create the spill folder " + path_ + " in it: " +
-           (ec ? ec.message() : std::string("it exists")));
+    refuse("cannot create the spill folder " + path_ +
+           " in it: " + (ec ? ec.message() : std::string("it exists")));
 }
 
 SpillFolder::~SpillFolder() {

@@ -11,8 +11,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -156,8 +156,8 @@ ConversionReport convertFolder(const RawlogOptions& o, apps::Progress& progress)
         }
         previous = pose;
         char line[200];
-        std::snprintf(line, sizeof(line), "%.6f %.6f %.6f %.6f %.9f %.9f %.9f\n", times[i], pose.x(),
-                      pose.y(), pose.z(), pose.yaw(), pose.pitch(), pose.roll());
+        std::snprintf(line, sizeof(line), "%.6f %.6f %.6f %.6f %.9f %.9f %.9f\n", times[i],
+                      pose.x(), pose.y(), pose.z(), pose.yaw(), pose.pitch(), pose.roll());
         ground_truth += line;
         ++report.log_scans;
         report.log_points += obs->pointcloud->size();

@@ -110,8 +110,9 @@ void Drive::samplePiece() {
   }
   const Eigen::Vector2d enter = corner - kTurnRadius * in, leave = corner + kTurnRadius * out_dir;
   line(from_, enter);
-  const Eigen::Vector2d centre = enter + kTurnRadius * (cross > 0 ? Eigen::Vector2d(-in.y(), in.x())
-                                                                 : Eigen::Vector2d(in.y(), -in.x()));
+  const Eigen::Vector2d centre =
+      enter + kTurnRadius *
+                  (cross > 0 ? Eigen::Vector2d(-in.y(), in.x()) : Eigen::Vector2d(in.y(), -in.x()));
   const Eigen::Vector2d radial = enter - centre;
   arc(centre, std::atan2(radial.y(), radial.x()), cross > 0 ? M_PI / 2 : -M_PI / 2);
   from_ = leave;

@@ -53,10 +53,10 @@ class Drive {
   RouteSettings route_;
   double pitch_;
   std::vector<Eigen::Vector2i> crossings_;
-  size_t corner_ = 1;          // the next crossing to turn at
-  bool last_piece_ = false;    // the final line, to the last corner, was sampled
-  Eigen::Vector2d from_;       // where the next piece starts
-  double carried_ = 0;         // arc length into the next piece where the next sample falls
+  size_t corner_ = 1;        // the next crossing to turn at
+  bool last_piece_ = false;  // the final line, to the last corner, was sampled
+  Eigen::Vector2d from_;     // where the next piece starts
+  double carried_ = 0;       // arc length into the next piece where the next sample falls
   std::deque<PathPoint> samples_;
   uint64_t count_ = 0, given_ = 0;
 };

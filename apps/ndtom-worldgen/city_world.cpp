@@ -36,7 +36,8 @@ std::optional<double> rayBoxEntry(const Eigen::Vector3d& o, const Eigen::Vector3
 CityWorld::CityWorld(const CityLayout& l) : layout_(l) {
   if (l.blocks_x < 1 || l.blocks_y < 1 || !(l.street_width > 0) ||
       !(l.block_pitch > l.street_width + 10))
-    throw std::invalid_argument("city: blocks ≥ 1 per side and a pitch over the street width + 10 m");
+    throw std::invalid_argument(
+        "city: blocks ≥ 1 per side and a pitch over the street width + 10 m");
   grid_origin_ = Eigen::Vector2d(-l.block_pitch, -l.block_pitch);
   cells_x_ = int(std::ceil((l.blocks_x + 2) * l.block_pitch / kCell));
   cells_y_ = int(std::ceil((l.blocks_y + 2) * l.block_pitch / kCell));
@@ -78,11 +79,10 @@ CityWorld::CityWorld(const CityLayout& l) : layout_(l) {
         for (double s = uniform(rng, 2, 8); s < length - 6; s += uniform(rng, 6, 20)) {
           if (rng() % 3 == 0) continue;
           const double curb = 1.2;  // the car's centre, street side of the curb
-          const double cx = along_x ? x0 + s + 2.25
-                                    : (side == 2 ? x0 - curb : x0 + inner + curb);
+          const double cx = along_x ? x0 + s + 2.25 : (side == 2 ? x0 - curb : x0 + inner + curb);
           const double cy = along_x ? (side == 0 ? y0 - curb : y0 + inner + curb) : y0 + s + 2.25;
-          const Eigen::Vector3d half = along_x ? Eigen::Vector3d(2.25, 0.9, 0.75)
-                                               : Eigen::Vector3d(0.9, 2.25, 0.75);
+          const Eigen::Vector3d half =
+              along_x ? Eigen::Vector3d(2.25, 0.9, 0.75) : Eigen::Vector3d(0.9, 2.25, 0.75);
           addBox({{cx - half.x(), cy - half.y(), 0}, {cx + half.x(), cy + half.y(), 1.5}});
         }
       }
@@ -90,7 +90,9 @@ CityWorld::CityWorld(const CityLayout& l) : layout_(l) {
   buildGrid();
 }
 
-void CityWorld::addBox(const Box& box) { boxes_.push_back(box); }
+void CityWorld::addBox(const Box& box) {
+  boxes_.push_back(box);
+}
 
 CityWorld::CellRange CityWorld::cellsUnder(const Box& box) const {
   return {std::max(0, int(std::floor((box.lo.x() - grid_origin_.x()) / kCell))),
@@ -107,7 +109,8 @@ void CityWorld::buildGrid() {
   for (const Box& box : boxes_) {
     const CellRange r = cellsUnder(box);
     for (int y = r.y0; y <= r.y1; ++y)
-      for (int x = r.x0; x <= r.x1; ++x) ++cell_start_[size_t(y) * size_t(cells_x_) + size_t(x) + 1];
+      for (int x = r.x0; x <= r.x1; ++x)
+        ++cell_start_[size_t(y) * size_t(cells_x_) + size_t(x) + 1];
     entries += uint64_t(std::max(0, r.x1 - r.x0 + 1)) * uint64_t(std::max(0, r.y1 - r.y0 + 1));
   }
   if (entries > UINT32_MAX || boxes_.size() > UINT32_MAX)
@@ -141,8 +144,8 @@ uint64_t CityWorld::estimatedBytes(const CityLayout& l) {
   const double blocks = double(std::max(l.blocks_x, 0)) * double(std::max(l.blocks_y, 0));
   const double cells = std::ceil((l.blocks_x + 2) * l.block_pitch / kCell) *
                        std::ceil((l.blocks_y + 2) * l.block_pitch / kCell);
-  const double bytes = blocks * (2 * kBoxesPerBlock * sizeof(Box) + kEntriesPerBlock * 4) +
-                       2 * cells * 4;
+  const double bytes =
+      blocks * (2 * kBoxesPerBlock * sizeof(Box) + kEntriesPerBlock * 4) + 2 * cells * 4;
   return bytes >= 1.8e19 ? UINT64_MAX : uint64_t(bytes);
 }
 

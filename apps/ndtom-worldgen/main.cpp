@@ -21,11 +21,11 @@
 #include <thread>
 
 #include "city_route.h"
-#include "ndtom_internal/atomic_file.h"
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/run_program.h"
+#include "ndtom_internal/atomic_file.h"
 #include "ndtom_io/pcd_reader.h"
 #include "ndtom_io/pose_file.h"
 #include "simulated_lidar.h"
@@ -55,9 +55,11 @@ class StagingFolder {
       const std::string name = entry.path().filename().string();
       if (name.rfind(marker, 0) != 0) continue;
       const std::string digits = name.substr(marker.size());
-      if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
+      if (digits.empty() || digits.size() > 9 ||
+          digits.find_first_not_of("0123456789") != std::string::npos)
         continue;
-      if (::kill(pid_t(std::stol(digits)), 0) != 0 && errno == ESRCH) fs::remove_all(entry.path(), ec);
+      if (::kill(pid_t(std::stol(digits)), 0) != 0 && errno == ESRCH)
+        fs::remove_all(entry.path(), ec);
     }
     path_ = out / (marker + std::to_string(::getpid()));
     fs::remove_all(path_, ec);
@@ -178,11 +180,11 @@ int run(const WorldOptions& o) {
   ndtom::renameFile((staging.path() / "times.txt").string(), (out / "times.txt").string());
   ndtom::renameFile((staging.path() / "poses.txt").string(), (out / "poses.txt").string());
   if (!o.quiet)
-    std::printf("ndtom-worldgen: %zu scans over %.2f km in a city of %dx%d blocks (%zu boxes), "
-                "%.1f M points, %.1f s; wrote %s\n",
-                scans, o.route.length / 1000, o.city.blocks_x, o.city.blocks_y,
-                city.boxes().size(), double(points) / 1e6, ndtom::apps::secondsSince(start),
-                o.out.c_str());
+    std::printf(
+        "ndtom-worldgen: %zu scans over %.2f km in a city of %dx%d blocks (%zu boxes), "
+        "%.1f M points, %.1f s; wrote %s\n",
+        scans, o.route.length / 1000, o.city.blocks_x, o.city.blocks_y, city.boxes().size(),
+        double(points) / 1e6, ndtom::apps::secondsSince(start), o.out.c_str());
   return 0;
 }
 

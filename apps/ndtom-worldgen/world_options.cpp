@@ -49,7 +49,8 @@ void checkMemory(WorldOptions& o) {
     while (!fits(o.threads)) --o.threads;
     return;
   }
-  const std::string blocks = std::to_string(o.city.blocks_x) + "x" + std::to_string(o.city.blocks_y);
+  const std::string blocks =
+      std::to_string(o.city.blocks_x) + "x" + std::to_string(o.city.blocks_y);
   const double threads_scan = (o.threads_given ? o.threads : 1) * scan;
   if (city >= threads_scan && city >= route)
     throw apps::UsageError(
@@ -58,15 +59,16 @@ void checkMemory(WorldOptions& o) {
                                  (o.route.margin ? " and --margin " + std::to_string(o.route.margin)
                                                  : std::string()) +
                                  " (the city is sized for the drive)") +
-        ": a city of " + blocks + " blocks needs " + bytesText(city) + ", " + overBudget(o.memory_budget));
+        ": a city of " + blocks + " blocks needs " + bytesText(city) + ", " +
+        overBudget(o.memory_budget));
   if (threads_scan >= route) {
     const double rays = double(o.lidar.rings) * double(o.lidar.azimuth_steps);
     throw apps::UsageError(
         "--rings " + std::to_string(o.lidar.rings) + " x --azimuth-steps " +
         std::to_string(o.lidar.azimuth_steps) + " = " + number(rays / 1e6) +
         " M rays a scan need " + bytesText(scan) + " a thread" +
-        (o.threads_given ? " x --threads " + std::to_string(o.threads) : std::string()) +
-        " (and " + bytesText(city) + " for the city): " + overBudget(o.memory_budget));
+        (o.threads_given ? " x --threads " + std::to_string(o.threads) : std::string()) + " (and " +
+        bytesText(city) + " for the city): " + overBudget(o.memory_budget));
   }
   throw apps::UsageError("--km " + number(o.route.length / 1000) + ": the route needs " +
                          bytesText(route) + ", " + overBudget(o.memory_budget));
@@ -97,19 +99,20 @@ void checkDiskSpace(const WorldOptions& o) {
   // The folder, or the nearest of its parents that exists.
   fs::path at = fs::absolute(fs::path(o.out));
   std::error_code ec;
-  while (!fs::exists(at, ec) && at.has_parent_path() && at.parent_path() != at) at = at.parent_path();
+  while (!fs::exists(at, ec) && at.has_parent_path() && at.parent_path() != at)
+    at = at.parent_path();
   const fs::space_info space = fs::space(at, ec);
   if (ec) return;  // unknown: the writes will say
   const uint64_t scans = routeScans(o.route.length, o.route.step);
   // poses.txt and times.txt: ~200 and ~16 bytes a scan.
   const double need = double(scanFileBytes(o.lidar, scans)) + 220.0 * double(scans);
   if (need > double(space.available))
-    throw apps::UsageError(
-        "--km " + number(o.route.length / 1000) + " / --step " + number(o.route.step) + " = " +
-        std::to_string(scans) + " scans of --rings " + std::to_string(o.lidar.rings) +
-        " x --azimuth-steps " + std::to_string(o.lidar.azimuth_steps) + " rays: about " +
-        bytesText(need) + " of files, over the " + bytesText(double(space.available)) +
-        " free on the disk of " + o.out);
+    throw apps::UsageError("--km " + number(o.route.length / 1000) + " / --step " +
+                           number(o.route.step) + " = " + std::to_string(scans) +
+                           " scans of --rings " + std::to_string(o.lidar.rings) +
+                           " x --azimuth-steps " + std::to_string(o.lidar.azimuth_steps) +
+                           " rays: about " + bytesText(need) + " of files, over the " +
+                           bytesText(double(space.available)) + " free on the disk of " + o.out);
 }
 
 int blocksForRoute(double length, double block_pitch) {
@@ -135,54 +138,71 @@ WorldOptions parseWorldOptions(int argc, const char* const argv[]) {
       {"-h", {false, [](WorldOptions& w, const std::string&) { w.help = true; }}},
       {"-q", {false, [](WorldOptions& w, const std::string&) { w.quiet = true; }}},
       {"--quiet", {false, [](WorldOptions& w, const std::string&) { w.quiet = true; }}},
-      {"--km", {true, [&](WorldOptions& w, const std::string& v) {
-                  w.route.length = 1000 * positive("--km", v, 10000);
-                }}},
-      {"--step", {true, [&](WorldOptions& w, const std::string& v) {
-                    w.route.step = positive("--step", v, 100);
-                  }}},
-      {"--blocks", {true, [](WorldOptions& w, const std::string& v) {
-                      w.city.blocks_x = w.city.blocks_y = int(parseInteger("--blocks", v, 1, 1000));
-                      w.city_size_given = true;
-                    }}},
-      {"--margin", {true, [](WorldOptions& w, const std::string& v) {
-                      w.route.margin = int(parseInteger("--margin", v, 0, 100));
-                    }}},
-      {"--seed", {true, [](WorldOptions& w, const std::string& v) {
-                    w.city.seed = w.route.seed = w.lidar.seed =
-                        uint64_t(parseInteger("--seed", v, 0, INT64_MAX));
-                  }}},
-      {"--noise-seed", {true, [](WorldOptions& w, const std::string& v) {
-                          w.noise_seed = uint64_t(parseInteger("--noise-seed", v, 0, INT64_MAX));
-                        }}},
-      {"--rings", {true, [](WorldOptions& w, const std::string& v) {
-                     w.lidar.rings = int(parseInteger("--rings", v, 1, 512));
-                   }}},
-      {"--azimuth-steps", {true, [](WorldOptions& w, const std::string& v) {
-                             w.lidar.azimuth_steps = int(parseInteger("--azimuth-steps", v, 1, 36000));
-                           }}},
-      {"--max-range", {true, [&](WorldOptions& w, const std::string& v) {
-                         w.lidar.max_range = positive("--max-range", v, 1000);
-                       }}},
-      {"--noise", {true, [](WorldOptions& w, const std::string& v) {
-                     const double x = parseReal("--noise", v);
-                     if (!(x >= 0 && x <= 1)) throw apps::UsageError("--noise " + v + ": must be in [0, 1] m");
-                     w.lidar.range_noise = x;
-                   }}},
-      {"--speed", {true, [&](WorldOptions& w, const std::string& v) {
-                     w.speed = positive("--speed", v, 100);
-                   }}},
-      {"--threads", {true, [](WorldOptions& w, const std::string& v) {
-                       w.threads = int(parseInteger("--threads", v, 1, 256));
-                       w.threads_given = true;
-                     }}},
-      {"--memory-budget", {true, [](WorldOptions& w, const std::string& v) {
-                             const double mb = parseReal("--memory-budget", v);
-                             if (!(mb >= double(kMinMemoryBudget) / 1e6) || !(mb < 1.8e13))
-                               throw apps::UsageError("--memory-budget " + v +
-                                                      ": must be at least 1 MB");
-                             w.memory_budget = uint64_t(std::round(mb * 1e6));
-                           }}},
+      {"--km",
+       {true, [&](WorldOptions& w,
+                  const std::string& v) { w.route.length = 1000 * positive("--km", v, 10000); }}},
+      {"--step",
+       {true,
+        [&](WorldOptions& w, const std::string& v) { w.route.step = positive("--step", v, 100); }}},
+      {"--blocks",
+       {true,
+        [](WorldOptions& w, const std::string& v) {
+          w.city.blocks_x = w.city.blocks_y = int(parseInteger("--blocks", v, 1, 1000));
+          w.city_size_given = true;
+        }}},
+      {"--margin",
+       {true,
+        [](WorldOptions& w, const std::string& v) {
+          w.route.margin = int(parseInteger("--margin", v, 0, 100));
+        }}},
+      {"--seed",
+       {true,
+        [](WorldOptions& w, const std::string& v) {
+          w.city.seed = w.route.seed = w.lidar.seed =
+              uint64_t(parseInteger("--seed", v, 0, INT64_MAX));
+        }}},
+      {"--noise-seed",
+       {true,
+        [](WorldOptions& w, const std::string& v) {
+          w.noise_seed = uint64_t(parseInteger("--noise-seed", v, 0, INT64_MAX));
+        }}},
+      {"--rings",
+       {true,
+        [](WorldOptions& w, const std::string& v) {
+          w.lidar.rings = int(parseInteger("--rings", v, 1, 512));
+        }}},
+      {"--azimuth-steps",
+       {true,
+        [](WorldOptions& w, const std::string& v) {
+          w.lidar.azimuth_steps = int(parseInteger("--azimuth-steps", v, 1, 36000));
+        }}},
+      {"--max-range",
+       {true, [&](WorldOptions& w,
+                  const std::string& v) { w.lidar.max_range = positive("--max-range", v, 1000); }}},
+      {"--noise",
+       {true,
+        [](WorldOptions& w, const std::string& v) {
+          const double x = parseReal("--noise", v);
+          if (!(x >= 0 && x <= 1)) throw apps::UsageError("--noise " + v + ": must be in [0, 1] m");
+          w.lidar.range_noise = x;
+        }}},
+      {"--speed",
+       {true,
+        [&](WorldOptions& w, const std::string& v) { w.speed = positive("--speed", v, 100); }}},
+      {"--threads",
+       {true,
+        [](WorldOptions& w, const std::string& v) {
+          w.threads = int(parseInteger("--threads", v, 1, 256));
+          w.threads_given = true;
+        }}},
+      {"--memory-budget",
+       {true,
+        [](WorldOptions& w, const std::string& v) {
+          const double mb = parseReal("--memory-budget", v);
+          if (!(mb >= double(kMinMemoryBudget) / 1e6) || !(mb < 1.8e13))
+            throw apps::UsageError("--memory-budget " + v + ": must be at least 1 MB");
+          w.memory_budget = uint64_t(std::round(mb * 1e6));
+        }}},
   };
   const auto positional = apps::applyArguments(argc, argv, table, o);
   if (o.help) return o;

@@ -12,7 +12,7 @@ namespace ndtom::world {
 struct WorldOptions {
   std::string out;  ///< folder for the scans, poses.txt and times.txt
   CityLayout city;
-  bool city_size_given = false;  ///< else sized from the route's length
+  bool city_size_given = false;        ///< else sized from the route's length
   std::optional<uint64_t> noise_seed;  ///< --noise-seed: the lidar's alone
   RouteSettings route;
   LidarModel lidar;

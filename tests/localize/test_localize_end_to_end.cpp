@@ -52,10 +52,10 @@ struct Fixture {
 
   Fixture() {
     // The map: ndtom-map on scans 0-4 (with their poses).
-    const ProgramRun mapped =
-        runMapper(mapper_test::quoted(kLidar) + " --max-scans 5 --max-range 30 --no-pictures -q -o " +
-                      mapper_test::quoted((dir / "map").string()),
-                  dir);
+    const ProgramRun mapped = runMapper(mapper_test::quoted(kLidar) +
+                                            " --max-scans 5 --max-range 30 --no-pictures -q -o " +
+                                            mapper_test::quoted((dir / "map").string()),
+                                        dir);
     EXPECT_EQ(mapped.exit_code, 0) << mapped.err;
     map = (dir / "map.ndtom").string();
     scans = dir / "scans";
@@ -79,11 +79,12 @@ TEST(LocalizeEndToEnd, TracksHeldOutScansToTheirReferencePoses) {
   for (const std::string& map : {f.map, (f.dir / "map.ndtommap").string()}) {
     for (const char* method : {"p2d", "d2d"}) {
       const std::string prefix = (f.dir / (std::string("loc-") + method)).string();
-      const ProgramRun run = runExecutable(
-          kLocalize,
-          mapper_test::quoted(map) + " " + mapper_test::quoted(f.scans.string()) + " -o " + mapper_test::quoted(prefix) +
-              " --threads 2 --method " + method + " --initial " + mapper_test::quoted(tumPose(f.offStart())),
-          f.dir);
+      const ProgramRun run =
+          runExecutable(kLocalize,
+                        mapper_test::quoted(map) + " " + mapper_test::quoted(f.scans.string()) +
+                            " -o " + mapper_test::quoted(prefix) + " --threads 2 --method " +
+                            method + " --initial " + mapper_test::quoted(tumPose(f.offStart())),
+                        f.dir);
       ASSERT_EQ(run.exit_code, 0) << run.err;
       EXPECT_NE(run.out.find("localized 5 of 5 scans (0 lost)"), std::string::npos) << run.out;
       EXPECT_NE(run.err.find("PCD folder"), std::string::npos);
@@ -103,7 +104,7 @@ TEST(LocalizeEndToEnd, TracksHeldOutScansToTheirReferencePoses) {
       EXPECT_TRUE(fs::exists(prefix + ".top.png"));
       const std::string csv = readText(prefix + ".scans.csv");
       EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6) << csv;  // header + 5 scans
-      EXPECT_NE(csv.find("\n4,"), std::string::npos) << csv;  // the folder's last scan
+      EXPECT_NE(csv.find("\n4,"), std::string::npos) << csv;          // the folder's last scan
     }
   }
 }
@@ -115,8 +116,9 @@ TEST(LocalizeEndToEnd, ScansOutsideTheMapAreReportedNotTracked) {
   const std::string prefix = (f.dir / "far").string();
   const ProgramRun run =
       runExecutable(kLocalize,
-                    mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) + " -o " + mapper_test::quoted(prefix) +
-                        " --no-pictures --initial " + mapper_test::quoted(tumPose(far)),
+                    mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
+                        " -o " + mapper_test::quoted(prefix) + " --no-pictures --initial " +
+                        mapper_test::quoted(tumPose(far)),
                     f.dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("localized 0 of 5 scans (5 lost)"), std::string::npos) << run.out;
@@ -133,9 +135,10 @@ TEST(LocalizeEndToEnd, SaveMapWritesThePriorMapExtendedByTheLiveMap) {
   Fixture f;
   const std::string prior_bytes = readText(f.map);
   const std::string prefix = (f.dir / "run").string(), extended = (f.dir / "extended").string();
-  const std::string common = mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
-                             " --no-pictures --initial " + mapper_test::quoted(tumPose(f.offStart())) +
-                             " --save-map " + mapper_test::quoted(extended) + " -o ";
+  const std::string common = mapper_test::quoted(f.map) + " " +
+                             mapper_test::quoted(f.scans.string()) + " --no-pictures --initial " +
+                             mapper_test::quoted(tumPose(f.offStart())) + " --save-map " +
+                             mapper_test::quoted(extended) + " -o ";
   const ProgramRun run = runExecutable(kLocalize, common + mapper_test::quoted(prefix), f.dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(readText(f.map), prior_bytes);
@@ -150,8 +153,8 @@ TEST(LocalizeEndToEnd, SaveMapWritesThePriorMapExtendedByTheLiveMap) {
   const std::string csv = readText(prefix + ".scans.csv");
   EXPECT_NE(csv.find("placed_in"), std::string::npos);
   // Without the live map there is nothing to save: refused before any work.
-  const ProgramRun refused =
-      runExecutable(kLocalize, common + mapper_test::quoted(prefix + "2") + " --live-map off", f.dir);
+  const ProgramRun refused = runExecutable(
+      kLocalize, common + mapper_test::quoted(prefix + "2") + " --live-map off", f.dir);
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("needs the live map"), std::string::npos) << refused.err;
 }
@@ -169,9 +172,9 @@ TEST(LocalizeEndToEnd, WithoutAStartPoseTheFirstScanIsSearchedForAndErrorsReport
   }
   const std::string prefix = (f.dir / "global").string();
   const ProgramRun run = runExecutable(
-      kLocalize, mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
-                     " -o " + mapper_test::quoted(prefix) + " --reference " +
-                     mapper_test::quoted(reference),
+      kLocalize,
+      mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) + " -o " +
+          mapper_test::quoted(prefix) + " --reference " + mapper_test::quoted(reference),
       f.dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("localized 5 of 5 scans (0 lost)"), std::string::npos) << run.out;
@@ -200,15 +203,16 @@ TEST(LocalizeEndToEnd, ReferenceFileWinsOverTheInputsOwnPoses) {
       std::vector<double> v(12);
       for (double& x : v) fields >> x;
       v[3] += 100;  // x of the translation, KITTI row-major 3 x 4
-      for (size_t k = 0; k < v.size(); ++k) out << std::setprecision(12) << v[k] << (k + 1 < v.size() ? " " : "\n");
+      for (size_t k = 0; k < v.size(); ++k)
+        out << std::setprecision(12) << v[k] << (k + 1 < v.size() ? " " : "\n");
     }
   }
   const std::string prefix = (f.dir / "moved").string();
   const ProgramRun run = runExecutable(
-      kLocalize, mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
-                     " -o " + mapper_test::quoted(prefix) + " --no-pictures --initial " +
-                     mapper_test::quoted(tumPose(f.offStart())) + " --reference " +
-                     mapper_test::quoted(moved),
+      kLocalize,
+      mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) + " -o " +
+          mapper_test::quoted(prefix) + " --no-pictures --initial " +
+          mapper_test::quoted(tumPose(f.offStart())) + " --reference " + mapper_test::quoted(moved),
       f.dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const std::string json = readText(prefix + ".summary.json");
@@ -221,11 +225,12 @@ TEST(LocalizeEndToEnd, AKidnappedStartIsFoundAgainAfterLostScans) {
   Eigen::Isometry3d kidnapped = f.offStart();
   kidnapped.translation() += Eigen::Vector3d(25, -15, 0);  // far beyond the local search
   const std::string prefix = (f.dir / "kidnap").string();
-  const ProgramRun run = runExecutable(
-      kLocalize, mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
-                     " -o " + mapper_test::quoted(prefix) + " --relocalize 1 --initial " +
-                     mapper_test::quoted(tumPose(kidnapped)),
-      f.dir);
+  const ProgramRun run =
+      runExecutable(kLocalize,
+                    mapper_test::quoted(f.map) + " " + mapper_test::quoted(f.scans.string()) +
+                        " -o " + mapper_test::quoted(prefix) + " --relocalize 1 --initial " +
+                        mapper_test::quoted(tumPose(kidnapped)),
+                    f.dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const std::string json = readText(prefix + ".summary.json");
   EXPECT_EQ(jsonNumber(json, "lost"), 1);  // the first scan, from the wrong start
@@ -246,24 +251,28 @@ TEST(LocalizeEndToEnd, AGlobalSearchPoseStandsOnlyWhenTheNextScanConfirmsIt) {
   Fixture f;
   const auto points = [](int i) {
     std::vector<Eigen::Vector3d> p;
-    for (const Eigen::Vector3d& q : ndtom::io::readPcd(kLidar + "/full" + std::to_string(i) + ".pcd").points)
+    for (const Eigen::Vector3d& q :
+         ndtom::io::readPcd(kLidar + "/full" + std::to_string(i) + ".pcd").points)
       if (q.allFinite()) p.push_back(q);
     return p;
   };
-  const auto run = [&](const std::string& name, const std::vector<std::vector<Eigen::Vector3d>>& scans) {
+  const auto run = [&](const std::string& name,
+                       const std::vector<std::vector<Eigen::Vector3d>>& scans) {
     const fs::path folder = f.dir / name;
     fs::create_directories(folder);
     std::ofstream times((folder / "times.txt").string());
     for (size_t k = 0; k < scans.size(); ++k) {
-      ndtom::io::writePcdBinary((folder / ("full" + std::to_string(k) + ".pcd")).string(), scans[k]);
+      ndtom::io::writePcdBinary((folder / ("full" + std::to_string(k) + ".pcd")).string(),
+                                scans[k]);
       times << std::setprecision(12) << f.times[5 + k] << "\n";
     }
     times.close();
     const std::string prefix = (f.dir / name).string() + "-out";
-    const ProgramRun r = runExecutable(
-        kLocalize, mapper_test::quoted(f.map) + " " + mapper_test::quoted(folder.string()) +
-                       " -o " + mapper_test::quoted(prefix) + " --no-pictures",
-        f.dir);
+    const ProgramRun r =
+        runExecutable(kLocalize,
+                      mapper_test::quoted(f.map) + " " + mapper_test::quoted(folder.string()) +
+                          " -o " + mapper_test::quoted(prefix) + " --no-pictures",
+                      f.dir);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return readText(prefix + ".summary.json");
   };
@@ -273,7 +282,8 @@ TEST(LocalizeEndToEnd, AGlobalSearchPoseStandsOnlyWhenTheNextScanConfirmsIt) {
   EXPECT_EQ(jsonNumber(nowhere, "relocalized"), 0);
   EXPECT_EQ(jsonNumber(nowhere, "lost"), 2);
   EXPECT_NE(nowhere.find("was not confirmed: the next scan could not be tracked from it"),
-            std::string::npos) << nowhere;
+            std::string::npos)
+      << nowhere;
   const std::string alone = run("alone", {points(5)});
   EXPECT_EQ(jsonNumber(alone, "lost"), 1);
   EXPECT_NE(alone.find("was not confirmed: no scan came after it"), std::string::npos) << alone;
@@ -285,7 +295,8 @@ TEST(LocalizeEndToEnd, AGlobalSearchPoseStandsOnlyWhenTheNextScanConfirmsIt) {
 TEST(LocalizeEndToEnd, BadCommandLinesAndInputsFailCleanly) {
   Fixture f;
   const std::string start = " --initial " + mapper_test::quoted(tumPose(f.offStart()));
-  const std::string io = mapper_test::quoted(f.scans.string()) + " -o " + mapper_test::quoted((f.dir / "x").string());
+  const std::string io =
+      mapper_test::quoted(f.scans.string()) + " -o " + mapper_test::quoted((f.dir / "x").string());
   struct Case {
     std::string args;
     int exit_code;
@@ -295,14 +306,18 @@ TEST(LocalizeEndToEnd, BadCommandLinesAndInputsFailCleanly) {
       {mapper_test::quoted(f.map) + " " + io + " --relocalize 0", 2, "--relocalize"},
       {mapper_test::quoted(f.map) + " " + io + " --reference-format xyz", 2, "--reference-format"},
       {mapper_test::quoted(f.map) + " " + io + " --reference " +
-           mapper_test::quoted((f.dir / "no-such-poses.txt").string()), 2, "no-such-poses.txt"},
+           mapper_test::quoted((f.dir / "no-such-poses.txt").string()),
+       2, "no-such-poses.txt"},
       {mapper_test::quoted(f.map) + " " + io + " --initial '1 2 3'", 2, "expected 7 numbers"},
       {mapper_test::quoted(f.map) + " " + io + start + " --method icp", 2, "--method"},
       {mapper_test::quoted(f.map) + " " + io + start + " --levels 1,2", 2, "level_factors"},
       {mapper_test::quoted(f.map) + " " + io + start + " --threads 0", 2, "--threads"},
-      {mapper_test::quoted((f.dir / "none.ndtom").string()) + " " + io + start, 1, "no such map file"},
+      {mapper_test::quoted((f.dir / "none.ndtom").string()) + " " + io + start, 1,
+       "no such map file"},
       {mapper_test::quoted(kLidar + "/full0.pcd") + " " + io + start, 1, "not a readable NDT-OM"},
-      {mapper_test::quoted(f.map) + " " + mapper_test::quoted((f.dir / "nothing").string()) + " -o x" + start, 2, "nothing"},
+      {mapper_test::quoted(f.map) + " " + mapper_test::quoted((f.dir / "nothing").string()) +
+           " -o x" + start,
+       2, "nothing"},
   };
   for (const Case& c : cases) {
     const ProgramRun run = runExecutable(kLocalize, c.args, f.dir);
@@ -317,11 +332,11 @@ TEST(LocalizeEndToEnd, BadCommandLinesAndInputsFailCleanly) {
   fs::create_directories(fifo_scans);
   fs::copy_file(f.scans / "full5.pcd", fifo_scans / "full5.pcd");
   const ndtom::testing::Fifo times((fifo_scans / "times.txt").string(), 30);
-  const ProgramRun run = runExecutable(
-      kLocalize,
-      mapper_test::quoted(f.map) + " " + mapper_test::quoted(fifo_scans.string()) + " -o " +
-          mapper_test::quoted((f.dir / "y").string()) + start,
-      f.dir);
+  const ProgramRun run =
+      runExecutable(kLocalize,
+                    mapper_test::quoted(f.map) + " " + mapper_test::quoted(fifo_scans.string()) +
+                        " -o " + mapper_test::quoted((f.dir / "y").string()) + start,
+                    f.dir);
   EXPECT_EQ(run.exit_code, 1) << run.err;
   EXPECT_NE(run.err.find("times.txt: a FIFO, not a regular file"), std::string::npos) << run.err;
 }
@@ -331,10 +346,10 @@ TEST(LocalizeEndToEnd, BadCommandLinesAndInputsFailCleanly) {
 TEST(LocalizeEndToEnd, TiledMapFromNdtomMapGivesTheWholeMapsPoses) {
   Fixture f;
   const std::string tiled = (f.dir / "tiled").string();
-  const ProgramRun mapped = runMapper(mapper_test::quoted(kLidar) +
-                                          " --max-scans 5 --max-range 30 --no-pictures --tiles 2 -q -o " +
-                                          mapper_test::quoted(tiled),
-                                      f.dir);
+  const ProgramRun mapped = runMapper(
+      mapper_test::quoted(kLidar) + " --max-scans 5 --max-range 30 --no-pictures --tiles 2 -q -o " +
+          mapper_test::quoted(tiled),
+      f.dir);
   ASSERT_EQ(mapped.exit_code, 0) << mapped.err;
   const ndtom::TiledMapFile file(tiled + ".ndtomtiles");
   EXPECT_GT(file.tiles().size(), 10u);

@@ -7,20 +7,20 @@
 #include <map>
 #include <set>
 
+#include "live_map.h"
 #include "localize_options.h"
 #include "mapper/mapper_run.h"
-#include "ndtom/localization/motion_prediction.h"
 #include "ndtom/files/tiled_map_io.h"
-#include "ndtom_apps/option_values.h"
-#include "live_map.h"
+#include "ndtom/localization/motion_prediction.h"
 #include "ndtom/map/block_grid.h"
+#include "ndtom_apps/option_values.h"
 #include "region_map.h"
 
 using namespace ndtom::localizer;
-using ndtom::ConstantVelocity;
-using ndtom::scaledMotion;
 using Eigen::Isometry3d;
 using Eigen::Vector3d;
+using ndtom::ConstantVelocity;
+using ndtom::scaledMotion;
 
 namespace {
 
@@ -31,8 +31,8 @@ Isometry3d motionOf(const Vector3d& t, double angle, const Vector3d& axis) {
   return m;
 }
 
-// A flat map of 0.4 m cells over [0, 3.2·side)² m (96 m): in each 3.2 m block of the ground, 1 to 30 free
-// cells (so that tiles differ in bytes) and, in one block in three, a Gaussian.
+// A flat map of 0.4 m cells over [0, 3.2·side)² m (96 m): in each 3.2 m block of the ground, 1 to
+// 30 free cells (so that tiles differ in bytes) and, in one block in three, a Gaussian.
 ndtom::NdtMap groundMap(int side = 30) {
   ndtom::MapOptions o;
   o.resolution = 0.4;
@@ -153,7 +153,8 @@ TEST(LocalizeOptions, InitialPoseInTumOrder) {
   const Isometry3d p = parsePose("--initial", "1 2 3 0 0 0.7071067811865476 0.7071067811865476");
   EXPECT_TRUE(p.translation().isApprox(Vector3d(1, 2, 3)));
   EXPECT_TRUE((p.linear() * Vector3d::UnitX()).isApprox(Vector3d::UnitY(), 1e-12));
-  for (const char* bad : {"1 2 3", "1 2 3 0 0 0 0", "1 2 3 0 0 0 x", "1 2 3 0 0 0 1 5", "nan 0 0 0 0 0 1"})
+  for (const char* bad :
+       {"1 2 3", "1 2 3 0 0 0 0", "1 2 3 0 0 0 x", "1 2 3 0 0 0 1 5", "nan 0 0 0 0 0 1"})
     EXPECT_THROW(parsePose("--initial", bad), ndtom::apps::UsageError) << bad;
 }
 

@@ -18,8 +18,8 @@ namespace {
 
 using namespace mapper_test;
 
-constexpr int kTileBlocks = 2;       // 6.4 m tiles at 0.4 m
-constexpr double kMaxRange = 30;     // the map's; the lidar sees 40 m
+constexpr int kTileBlocks = 2;    // 6.4 m tiles at 0.4 m
+constexpr double kMaxRange = 30;  // the map's; the lidar sees 40 m
 constexpr double kResolution = 0.4;
 
 // Each scan's box: the origin and the points, each cut at max_range, and a cell of margin.
@@ -35,7 +35,8 @@ std::vector<Eigen::AlignedBox3d> scanBoxes(const fs::path& city) {
     for (const Eigen::Vector3d& p : cloud.points) {
       const Eigen::Vector3d w = poses[i].pose * p;
       const double range = (w - origin).norm();
-      if (std::isfinite(range)) box.extend(origin + (w - origin) * std::min(1.0, kMaxRange / range));
+      if (std::isfinite(range))
+        box.extend(origin + (w - origin) * std::min(1.0, kMaxRange / range));
     }
     box.min().array() -= kResolution;
     box.max().array() += kResolution;
@@ -47,8 +48,10 @@ std::vector<Eigen::AlignedBox3d> scanBoxes(const fs::path& city) {
 // The memory of the map's tiles that meet any of `boxes`, lent out of the map and back.
 size_t tilesBytes(ndtom::NdtMap& map, const std::vector<Eigen::AlignedBox3d>& boxes) {
   ndtom::NdtMap part = ndtom::extractBlocks(map, [&](const ndtom::CellIndex& block) {
-    const auto tile = ndtom::tileBoxOf(ndtom::tileOfBlock(block, kTileBlocks), kTileBlocks, kResolution);
-    return std::any_of(boxes.begin(), boxes.end(), [&](const auto& b) { return tile.intersects(b); });
+    const auto tile =
+        ndtom::tileBoxOf(ndtom::tileOfBlock(block, kTileBlocks), kTileBlocks, kResolution);
+    return std::any_of(boxes.begin(), boxes.end(),
+                       [&](const auto& b) { return tile.intersects(b); });
   });
   const size_t bytes = part.memoryBytes();
   ndtom::absorbBlocks(map, std::move(part));
@@ -89,11 +92,12 @@ TEST(MapperOutOfCore, TiledFileIsTheInMemoryOneAndMemoryStaysInBudget) {
   std::snprintf(budget, sizeof budget, "%.6f", budget_mb);
 
   fs::create_directories(dir / "ooc");
-  run = runMapper(common + "--resident-budget " + budget + " -o " +
-                      quoted((dir / "ooc" / "city").string()),
-                  dir);
+  run = runMapper(
+      common + "--resident-budget " + budget + " -o " + quoted((dir / "ooc" / "city").string()),
+      dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_TRUE(sameBytes(readText(dir / "ooc" / "city.ndtomtiles"), readText(dir / "mem.ndtomtiles")));
+  EXPECT_TRUE(
+      sameBytes(readText(dir / "ooc" / "city.ndtomtiles"), readText(dir / "mem.ndtomtiles")));
   // Only the tiles and the summary: the spill folder is gone.
   std::vector<std::string> left;
   for (const auto& e : fs::directory_iterator(dir / "ooc")) left.push_back(e.path().filename());
@@ -111,7 +115,8 @@ TEST(MapperOutOfCore, TiledFileIsTheInMemoryOneAndMemoryStaysInBudget) {
   // The same map: its counts, added up tile by tile, are the in-memory run's.
   const std::string mem_json = readText(dir / "mem.summary.json");
   EXPECT_EQ(jsonNumber(json, "cells", "map"), jsonNumber(mem_json, "cells", "map"));
-  EXPECT_EQ(jsonNumber(json, "occupied_cells", "map"), jsonNumber(mem_json, "occupied_cells", "map"));
+  EXPECT_EQ(jsonNumber(json, "occupied_cells", "map"),
+            jsonNumber(mem_json, "occupied_cells", "map"));
 
   // The budget plus one scan's tiles (or two scans' tiles, where one scan's exceed the
   // budget); hash buckets (8 bytes, at most two a block) aside.
@@ -121,9 +126,10 @@ TEST(MapperOutOfCore, TiledFileIsTheInMemoryOneAndMemoryStaysInBudget) {
   map.forEachBlock([&](const ndtom::CellIndex&) { ++blocks; });
   const double bound =
       double(residentBound(map, scanBoxes(city), size_t(budget_bytes), &window)) + 16.0 * blocks;
-  std::printf("map %.0f B, budget %.0f B, largest scan window %zu B, peak resident %.0f B "
-              "(bound %.0f B), %.0f spills, %.0f loads\n",
-              map_bytes, budget_bytes, window, peak, bound, spills, loads);
+  std::printf(
+      "map %.0f B, budget %.0f B, largest scan window %zu B, peak resident %.0f B "
+      "(bound %.0f B), %.0f spills, %.0f loads\n",
+      map_bytes, budget_bytes, window, peak, bound, spills, loads);
   EXPECT_GT(peak, budget_bytes);  // else the budget was never put to the test
   EXPECT_LE(peak, bound);
 }
@@ -132,12 +138,14 @@ TEST(MapperOutOfCore, BadValuesAreRefusedClearly) {
   const TempDir dir;
   const std::string out = " -o " + quoted((dir / "m").string());
   for (const char* bad : {"0", "-5", "abc", "1e-9", "nan"}) {
-    const ProgramRun run = runMapper(quoted(kLidar) + out + " --resident-budget " + std::string(bad), dir);
+    const ProgramRun run =
+        runMapper(quoted(kLidar) + out + " --resident-budget " + std::string(bad), dir);
     EXPECT_EQ(run.exit_code, 2) << bad;
     EXPECT_NE(run.err.find("--resident-budget"), std::string::npos) << run.err;
   }
   for (const char* clash : {"--coarse 2", "--octomap"}) {
-    const ProgramRun run = runMapper(quoted(kLidar) + out + " --resident-budget 10 " + std::string(clash), dir);
+    const ProgramRun run =
+        runMapper(quoted(kLidar) + out + " --resident-budget 10 " + std::string(clash), dir);
     EXPECT_EQ(run.exit_code, 2) << clash;
     EXPECT_NE(run.err.find("needs the whole map in memory"), std::string::npos) << run.err;
   }
@@ -155,12 +163,15 @@ TEST(MapperOutOfCore, BadValuesAreRefusedClearly) {
 TEST(MapperOutOfCore, ASpillDirThatIsNotAWritableFolderIsRefusedNamingIt) {
   const TempDir dir;
   const std::string out = " -o " + quoted((dir / "m").string());
-  const std::string common = quoted(kLidar) + out + " --resolution 0.4 --max-scans 2 --no-pictures -q --resident-budget 10";
+  const std::string common =
+      quoted(kLidar) + out +
+      " --resolution 0.4 --max-scans 2 --no-pictures -q --resident-budget 10";
   const fs::path file = dir / "a_file";
   std::ofstream(file) << "not a folder";
   std::vector<std::pair<fs::path, std::string>> cases = {
       {file, "not a writable folder (a file)"},
-      {file / "sub", "not a writable folder (cannot create it: " + std::string(std::strerror(ENOTDIR))},
+      {file / "sub",
+       "not a writable folder (cannot create it: " + std::string(std::strerror(ENOTDIR))},
   };
   const fs::path read_only = dir / "read_only";
   fs::create_directories(read_only);
@@ -174,7 +185,8 @@ TEST(MapperOutOfCore, ASpillDirThatIsNotAWritableFolderIsRefusedNamingIt) {
     SCOPED_TRACE(spill.string());
     const ProgramRun run = runMapper(common + " --spill-dir " + quoted(spill.string()), dir);
     EXPECT_EQ(run.exit_code, 2) << run.err;
-    EXPECT_NE(run.err.find("--spill-dir " + spill.string() + ": " + message), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("--spill-dir " + spill.string() + ": " + message), std::string::npos)
+        << run.err;
     EXPECT_EQ(run.err.find("No such file or directory"), std::string::npos) << run.err;
   }
   ::chmod(read_only.c_str(), 0755);

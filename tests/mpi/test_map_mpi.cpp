@@ -122,9 +122,10 @@ TEST(MapMpi, AScanOverTheMemoryBudgetIsNamed) {
   TempDir dir;
   // 7 MB holds a scan's points but no process's part of the first scan's cells (with 16
   // MB, one of two processes' parts fitted at times: the rays are shared out by timing).
-  const std::string args = quoted(kLidar) + " -o " + quoted((dir / "m").string()) + kMapOptions +
-                           " --memory-budget 7";
-  for (const auto& [processes, input] : {std::pair<int, std::string>{1, "each"}, {2, "broadcast"}}) {
+  const std::string args =
+      quoted(kLidar) + " -o " + quoted((dir / "m").string()) + kMapOptions + " --memory-budget 7";
+  for (const auto& [processes, input] :
+       {std::pair<int, std::string>{1, "each"}, {2, "broadcast"}}) {
     SCOPED_TRACE(std::to_string(processes) + " processes, scan input " + input);
     const ProgramRun run = runMpi(processes, args + " --scan-input " + input, dir);
     EXPECT_EQ(run.exit_code, 1) << run.err;
@@ -141,8 +142,9 @@ TEST(MapMpi, AScanOverTheMemoryBudgetIsNamed) {
     EXPECT_FALSE(fs::exists(dir / "m.ndtom"));
   }
   // With a budget that holds the map, the same run writes it.
-  const ProgramRun run = runMpi(2, quoted(kLidar) + " -o " + quoted((dir / "m").string()) +
-                                       kMapOptions + " --memory-budget 200 --scan-input broadcast",
+  const ProgramRun run = runMpi(2,
+                                quoted(kLidar) + " -o " + quoted((dir / "m").string()) +
+                                    kMapOptions + " --memory-budget 200 --scan-input broadcast",
                                 dir);
   EXPECT_EQ(run.exit_code, 0) << run.err;
   EXPECT_TRUE(fs::exists(dir / "m.ndtom"));

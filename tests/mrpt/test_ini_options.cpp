@@ -488,8 +488,8 @@ visible_free_voxels = false
   EXPECT_TRUE(r.show_free_cells);
   EXPECT_EQ(r.max_free_cells, 99u);
   EXPECT_EQ(r.free_cell_point_size, 3.5f);
-  EXPECT_FALSE(r.generate_occupied_voxels || r.visible_occupied_voxels ||
-               r.generate_free_voxels || r.visible_free_voxels);
+  EXPECT_FALSE(r.generate_occupied_voxels || r.visible_occupied_voxels || r.generate_free_voxels ||
+               r.visible_free_voxels);
 
   // Saved and read back through text: the same options.
   mrpt::config::CConfigFileMemory saved;
@@ -499,12 +499,12 @@ visible_free_voxels = false
   EXPECT_TRUE(again == r) << saved.getContent();
 
   // Bad values name the section and the option, and change nothing.
-  for (const auto& [body, option] :
-       std::vector<std::pair<std::string, std::string>>{{"subdivisions = 9", "subdivisions"},
-                                                        {"quantiles = -1", "quantiles"},
-                                                        {"colormap = cmRAINBOW", "colormap"},
-                                                        {"max_ellipsoids = -3", "max_ellipsoids"},
-                                                        {"free_cell_point_size = 0", "free_cell"}}) {
+  for (const auto& [body, option] : std::vector<std::pair<std::string, std::string>>{
+           {"subdivisions = 9", "subdivisions"},
+           {"quantiles = -1", "quantiles"},
+           {"colormap = cmRAINBOW", "colormap"},
+           {"max_ellipsoids = -3", "max_ellipsoids"},
+           {"free_cell_point_size = 0", "free_cell"}}) {
     mrpt_ndtom::TRenderOptions o;
     const std::string msg = thrownMessage(
         [&] { o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[s]\n" + body), "s"); });

@@ -391,7 +391,8 @@ TEST(MrptPrograms, RawlogEditLoadsThePlugin) {
 }
 
 // Starts `command` in `dir` in its own process group, output to `log`; returns its pid.
-static pid_t startInBackground(const std::string& command, const fs::path& dir, const fs::path& log) {
+static pid_t startInBackground(const std::string& command, const fs::path& dir,
+                               const fs::path& log) {
   const pid_t pid = fork();
   if (pid == 0) {
     setpgid(0, 0);
@@ -433,9 +434,9 @@ TEST(MrptPrograms, GuiProgramsStartWithThePluginUnderXvfb) {
 #endif
   for (const auto& [program, file] : programs) {
     const fs::path log = dir.path / (program + ".log");
-    const pid_t pid = startInBackground(kRuntimeEnv + "xvfb-run -a stdbuf -oL -eL " + program +
-                                            " -l '" + kPlugin + "' " + file,
-                                        dir.path, log);
+    const pid_t pid = startInBackground(
+        kRuntimeEnv + "xvfb-run -a stdbuf -oL -eL " + program + " -l '" + kPlugin + "' " + file,
+        dir.path, log);
     ASSERT_GT(pid, 0);
     // Started: the plugin line appears (a generous deadline: Xvfb is slow under load), and a
     // second later the program still runs (it did not crash loading the plugin or the file).

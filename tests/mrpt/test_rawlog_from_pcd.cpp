@@ -54,8 +54,8 @@ std::string readFile(const fs::path& p) {
 int runTool(const std::string& args, const WorkDir& dir, std::string* err = nullptr,
             const std::string& before = "") {
   const fs::path log = dir.path / "stderr.txt";
-  const std::string command = "cd '" + dir.path.string() + "' && " + before + "'" + kTool + "' " + args +
-                              " >/dev/null 2>'" + log.string() + "' </dev/null";
+  const std::string command = "cd '" + dir.path.string() + "' && " + before + "'" + kTool + "' " +
+                              args + " >/dev/null 2>'" + log.string() + "' </dev/null";
   const int status = std::system(command.c_str());
   if (err) *err = readFile(log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -66,7 +66,8 @@ TEST(Visualization, EllipsoidVerticesLieOnTheSigmaSurface) {
     // Gaussians are drawn in cell order, as forEachCellOrdered lists them.
     std::vector<ndtom::Gaussian> gaussians;
     ndt.forEachCellOrdered([&](const ndtom::CellView& c) {
-      if (c.stats && c.stats->hasGaussian()) gaussians.push_back(ndt.gaussianOf(c, ndtom::Covariance::Regularized));
+      if (c.stats && c.stats->hasGaussian())
+        gaussians.push_back(ndt.gaussianOf(c, ndtom::Covariance::Regularized));
     });
     for (size_t g = 0; g < gaussians.size(); ++g) {
       const Eigen::Matrix3d inv = gaussians[g].covariance.inverse();

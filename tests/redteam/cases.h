@@ -2,14 +2,13 @@
 // program does with it, and how to tell a silently wrong result or lost data afterwards.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <set>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "run_case.h"
 

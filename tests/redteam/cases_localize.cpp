@@ -60,7 +60,8 @@ std::vector<std::map<std::string, std::string>> scanRows(const std::string& pref
 
 double number(const std::map<std::string, std::string>& row, const std::string& key) {
   const auto it = row.find(key);
-  return it == row.end() || it->second.empty() ? std::nan("") : std::strtod(it->second.c_str(), nullptr);
+  return it == row.end() || it->second.empty() ? std::nan("")
+                                               : std::strtod(it->second.c_str(), nullptr);
 }
 
 // The first KITTI pose of `poses` moved by `offset` (metres in x, y; degrees of yaw), as
@@ -124,7 +125,8 @@ std::string placedScansCheck(const std::string& prefix, const std::vector<Eigen:
   }
   if (wrong == 0) return "";
   return "silent wrong: " + std::to_string(wrong) + " of " + std::to_string(rows.size()) +
-         " scans placed" + (none_placed ? " (none can be)" : " > " + std::to_string(int(tolerance)) + " m off") +
+         " scans placed" +
+         (none_placed ? " (none can be)" : " > " + std::to_string(int(tolerance)) + " m off") +
          ", e.g. " + first;
 }
 
@@ -160,9 +162,9 @@ std::vector<Case> localizeCases(const Context& c) {
 
     std::string name;
     Expect expect;
-    std::function<std::string()> map_file;            // makes it
-    std::function<std::vector<std::string>()> args;  // after map_file()
-    std::function<std::string()> input;              // default: the seed 1 city
+    std::function<std::string()> map_file;                      // makes it
+    std::function<std::vector<std::string>()> args;             // after map_file()
+    std::function<std::string()> input;                         // default: the seed 1 city
     std::function<std::vector<Eigen::Vector3d>()> input_truth;  // default: its poses
     double timeout = 60;
     bool pictures = false;
@@ -240,15 +242,21 @@ std::vector<Case> localizeCases(const Context& c) {
     add(ndtom_file.limit(120).noOracle());
     add(Run("one Gaussian per block, " + b + ", .ndtommap (gzip)", Expect::Either,
             sparse("ndtommap", blocks, 0), origin)
-            .limit(120).noOracle().slow());
-    add(Run("one Gaussian per block, " + b + ", .ndtomtiles of 4096 blocks (a few tiles)", Expect::Either,
-            sparse("tiles", blocks, 4096), origin)
-            .limit(120).noOracle().slow());
+            .limit(120)
+            .noOracle()
+            .slow());
+    add(Run("one Gaussian per block, " + b + ", .ndtomtiles of 4096 blocks (a few tiles)",
+            Expect::Either, sparse("tiles", blocks, 4096), origin)
+            .limit(120)
+            .noOracle()
+            .slow());
   }
   // More blocks than the default budget (512 MB) holds, in 8 tiles: a refusal names the file.
-  add(Run("one Gaussian per block, 230k blocks, tiles of 4096 blocks (over the budget)", Expect::Either,
-          sparse("tiles", 230000, 4096), origin)
-          .limit(120).noOracle().slow()
+  add(Run("one Gaussian per block, 230k blocks, tiles of 4096 blocks (over the budget)",
+          Expect::Either, sparse("tiles", 230000, 4096), origin)
+          .limit(120)
+          .noOracle()
+          .slow()
           .checked([](const Outcome& o, const std::string&) -> std::string {
             if (o.exit_code == 1 && o.err.find(".ndtomtiles") == std::string::npos)
               return "unclear: the refusal names no file";
@@ -259,15 +267,20 @@ std::vector<Case> localizeCases(const Context& c) {
     add(Run(std::string("--recovery-radius 100 --search-step ") + step + ", start 30 m off",
             Expect::Either, ndtom,
             [initial, step] {
-              return std::vector<std::string>{"--initial", initial(30, 0, 0), "--recovery-radius",
-                                              "100", "--search-step", step, "--max-scans", "2"};
+              return std::vector<std::string>{"--initial",         initial(30, 0, 0),
+                                              "--recovery-radius", "100",
+                                              "--search-step",     step,
+                                              "--max-scans",       "2"};
             })
-            .limit(120).slow());
+            .limit(120)
+            .slow());
 
   // Class 2: dropping tiles walks every resident block per tile. The city in tiles of one
   // block (thousands of tiles), the first scan searched for in the whole map (every tile
   // loaded), the next ones tracked with a small region: most tiles dropped at once.
-  const auto tiles1 = [&c] { return c.cityMap(1, "seed1-tiles1", {"--tiles", "1"}) + ".ndtomtiles"; };
+  const auto tiles1 = [&c] {
+    return c.cityMap(1, "seed1-tiles1", {"--tiles", "1"}) + ".ndtomtiles";
+  };
   add(Run("tiles of 1 block, whole-map search then --region-radius 10", Expect::Either, tiles1,
           plain({"--region-radius", "10", "--max-scans", "3"}))
           .slow());
@@ -288,32 +301,36 @@ std::vector<Case> localizeCases(const Context& c) {
       return "unclear: the refusal names no map file";
     return "";
   };
-  add(Run("scatter diag(1e308)", Expect::Refuse, scattered("1e308"), atTruth({})).checked(namesMap));
+  add(Run("scatter diag(1e308)", Expect::Refuse, scattered("1e308"), atTruth({}))
+          .checked(namesMap));
   add(Run("scatter diag(1e308), pictures", Expect::Refuse, scattered("1e308"), atTruth({}))
-          .withPictures().slow().checked(namesMap));
+          .withPictures()
+          .slow()
+          .checked(namesMap));
   add(Run("scatter diag(1e200)", Expect::Refuse, scattered("1e200"), atTruth({}))
-          .slow().checked(namesMap));
+          .slow()
+          .checked(namesMap));
   add(Run("scatter diag(1e154), pictures", Expect::Either, scattered("1e154"), atTruth({}))
-          .withPictures().slow().checked(namesMap));
+          .withPictures()
+          .slow()
+          .checked(namesMap));
 
   // Class 4: silently wrong answers.
   // --reference moved 100 m: the errors reported must be about 100 m.
-  add(Run("--reference moved 100 m", Expect::Accept, ndtom,
-          [dir, city, initial] {
-            movedPoses(city() + "/poses.txt", dir + "/moved.txt", 100);
-            return std::vector<std::string>{"--initial", initial(0, 0, 0), "--reference",
-                                            dir + "/moved.txt"};
-          })
-          .checked([](const Outcome& o, const std::string& out) -> std::string {
-            if (o.exit_code != 0) return "";
-            for (const auto& row : scanRows(out)) {
-              const double e = number(row, "error_m");
-              if (row.at("outcome") != "lost" && !(e > 90 && e < 110))
-                return "silent wrong: scan " + row.at("index") + " reported error " +
-                       row.at("error_m") + " m against a reference 100 m away";
-            }
-            return "";
-          }));
+  add(Run("--reference moved 100 m", Expect::Accept, ndtom, [dir, city, initial] {
+        movedPoses(city() + "/poses.txt", dir + "/moved.txt", 100);
+        return std::vector<std::string>{"--initial", initial(0, 0, 0), "--reference",
+                                        dir + "/moved.txt"};
+      }).checked([](const Outcome& o, const std::string& out) -> std::string {
+    if (o.exit_code != 0) return "";
+    for (const auto& row : scanRows(out)) {
+      const double e = number(row, "error_m");
+      if (row.at("outcome") != "lost" && !(e > 90 && e < 110))
+        return "silent wrong: scan " + row.at("index") + " reported error " + row.at("error_m") +
+               " m against a reference 100 m away";
+    }
+    return "";
+  }));
   // Registration options that make wrong poses likely: the verdict must call them lost.
   for (const char* levels : {"1", "2,1", "64,1", "1024,16,4,1"})
     add(Run(std::string("--levels ") + levels, Expect::Either, ndtom,
@@ -329,7 +346,8 @@ std::vector<Case> localizeCases(const Context& c) {
       }).slow());
   add(Run("no --initial (global search), --relocalize 2", Expect::Either, ndtom,
           plain({"--relocalize", "2"}))
-          .limit(90).slow());
+          .limit(90)
+          .slow());
   add(Run("--min-matched-fraction 1", Expect::Either, ndtom,
           atTruth({"--min-matched-fraction", "1"}))
           .slow());
@@ -337,8 +355,8 @@ std::vector<Case> localizeCases(const Context& c) {
           atTruth({"--min-matched-fraction", "0", "--levels", "1"}))
           .slow());
   add(Run("--skip 5 from scan 5's pose", Expect::Either, ndtom, [city] {
-        return std::vector<std::string>{
-            "--initial", initialPose(city() + "/poses.txt", 0, 0, 0, 5), "--skip", "5"};
+        return std::vector<std::string>{"--initial", initialPose(city() + "/poses.txt", 0, 0, 0, 5),
+                                        "--skip", "5"};
       }).slow());
   // Scans of another city (--seed 2) in the seed 1 map: no scan can be placed.
   const auto city2 = [&c] { return c.city(2); };
@@ -347,13 +365,19 @@ std::vector<Case> localizeCases(const Context& c) {
           [city2] {
             return std::vector<std::string>{"--initial", initialPose(city2() + "/poses.txt")};
           })
-          .on(city2, truth2, true).slow());
+          .on(city2, truth2, true)
+          .slow());
   add(Run("scans of city seed 2 in the seed 1 map, global search", Expect::Either, ndtom,
           plain({"--relocalize", "3"}))
-          .on(city2, truth2, true).limit(90).slow());
+          .on(city2, truth2, true)
+          .limit(90)
+          .slow());
   // A map with occupancy disabled (Recursive NDT): no free space to judge poses by.
-  add(Run("map with occupancy disabled", Expect::Either,
-          [&c] { return c.cityMap(1, "seed1-noocc", {"--occupancy-enabled", "false"}) + ".ndtom"; },
+  add(Run(
+          "map with occupancy disabled", Expect::Either,
+          [&c] {
+            return c.cityMap(1, "seed1-noocc", {"--occupancy-enabled", "false"}) + ".ndtom";
+          },
           atTruth({}))
           .slow());
 
@@ -361,8 +385,8 @@ std::vector<Case> localizeCases(const Context& c) {
   add(Run("--save-map under a regular file", Expect::Refuse, ndtom,
           [dir, initial] {
             std::ofstream(dir + "/plain-file") << "x";
-            return std::vector<std::string>{"--initial", initial(0, 0, 0), "--max-scans", "2",
-                                            "--save-map", dir + "/plain-file/ext"};
+            return std::vector<std::string>{"--initial", initial(0, 0, 0), "--max-scans",
+                                            "2",         "--save-map",     dir + "/plain-file/ext"};
           })
           .noOracle()
           .checked([dir](const Outcome& o, const std::string&) -> std::string {

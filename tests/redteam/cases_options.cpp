@@ -52,14 +52,14 @@ std::vector<Case> optionCases(const Context& c) {
   map("--min-eigen-abs 10 (pictures)", {"--min-eigen-abs", "10"}, Expect::Either, 30, false);
   // Class 3: a floor that cannot be drawn: clamped or refused before the work.
   for (const char* v : {"1e15", "1e300"})
-    map(std::string("--min-eigen-abs ") + v + " (pictures)", {"--min-eigen-abs", v},
-        Expect::Either, 60);
+    map(std::string("--min-eigen-abs ") + v + " (pictures)", {"--min-eigen-abs", v}, Expect::Either,
+        60);
   map("--min-eigen-abs 1e300 --no-pictures (the scene only)",
       {"--min-eigen-abs", "1e300", "--no-pictures"}, Expect::Either, 60);
   for (const char* v : {"1e15", "1e300"}) {
     const std::string ini = dir + "/eigen-" + v + ".ini";
-    Case& k = map(std::string("min_eigen_abs = ") + v + " in a --config file",
-                  {"--config", ini}, Expect::Either, 60);
+    Case& k = map(std::string("min_eigen_abs = ") + v + " in a --config file", {"--config", ini},
+                  Expect::Either, 60);
     k.setup = [ini, v, lidar] {
       std::ofstream(ini) << "[MetricMap_ndtOccupancyMap_00_insertOpts]\nmin_eigen_abs = " << v
                          << "\n";
@@ -69,8 +69,8 @@ std::vector<Case> optionCases(const Context& c) {
 
   // Memory budget and spilling.
   map("--memory-budget 1 (MB)", {"--memory-budget", "1"}, Expect::Refuse, 60);
-  map("--memory-budget 1e9 (MB, more than the machine)", {"--memory-budget", "1e9", "--no-pictures"},
-      Expect::Either, 60);
+  map("--memory-budget 1e9 (MB, more than the machine)",
+      {"--memory-budget", "1e9", "--no-pictures"}, Expect::Either, 60);
   map("--resident-budget 0.001 (1 kB of tiles resident)",
       {"--resident-budget", "0.001", "--max-scans", "3"}, Expect::Either, 60, false);
   // Class 6: a spill folder that cannot be made: the message names it (we may run as root, so
@@ -93,9 +93,9 @@ std::vector<Case> optionCases(const Context& c) {
   }
   {
     const std::string ro = dir + "/read-only";
-    Case& k = map("--spill-dir a read-only folder (mode 0555)",
-                  {"--resident-budget", "1", "--spill-dir", ro, "--max-scans", "3"},
-                  Expect::Either, 60);
+    Case& k =
+        map("--spill-dir a read-only folder (mode 0555)",
+            {"--resident-budget", "1", "--spill-dir", ro, "--max-scans", "3"}, Expect::Either, 60);
     k.setup = [ro, lidar] {
       fs::create_directories(ro);
       chmod(ro.c_str(), 0555);
@@ -133,9 +133,11 @@ std::vector<Case> optionCases(const Context& c) {
   };
   worldgen("--blocks 1000 --km 0.01", {"--blocks", "1000", "--km", "0.01"}, Expect::Either, 60,
            false);
-  worldgen("--blocks 300 --km 0.01", {"--blocks", "300", "--km", "0.01"}, Expect::Either, 60, false);
-  worldgen("--rings 512 --azimuth-steps 36000 --km 0.002", {"--rings", "512", "--azimuth-steps", "36000", "--km", "0.002"},
-           Expect::Either, 60, false);
+  worldgen("--blocks 300 --km 0.01", {"--blocks", "300", "--km", "0.01"}, Expect::Either, 60,
+           false);
+  worldgen("--rings 512 --azimuth-steps 36000 --km 0.002",
+           {"--rings", "512", "--azimuth-steps", "36000", "--km", "0.002"}, Expect::Either, 60,
+           false);
   worldgen("--km 9000", {"--km", "9000"}, Expect::Either, 60, false);
   worldgen("--km 9000 --step 100", {"--km", "9000", "--step", "100"}, Expect::Either, 60, false);
   {
@@ -155,8 +157,8 @@ std::vector<Case> optionCases(const Context& c) {
     k.name = "ndtom-rawlog-from-pcd, files limited to " + std::to_string(limit) + " bytes";
     k.expect = Expect::Either;
     const std::string out = set.path("/rawlog");
-    k.argv = {c.rawlog_from_pcd, c.lidar, "-o", out + "/run", "-q", "--scans", "0:2",
-              "--map-scans", "0:2"};
+    k.argv = {c.rawlog_from_pcd, c.lidar, "-o",          out + "/run", "-q",
+              "--scans",         "0:2",   "--map-scans", "0:2"};
     k.limits.file_size = limit;
     k.limits.timeout_s = 60;
     k.setup = [out, lidar] {
@@ -197,9 +199,21 @@ std::vector<Case> optionCases(const Context& c) {
       k.sampled = false;
       k.one_line = false;  // mpirun adds its own lines after an MPI_Abort
       k.limits.timeout_s = 60;
-      k.argv = {"/usr/bin/env", "OMPI_ALLOW_RUN_AS_ROOT=1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1",
-                "OMPI_MCA_rmaps_base_oversubscribe=1", "mpirun", "-np", np, c.mpi_mapper,
-                c.lidar, "-o", set.path("/mpi"), "-q", "--no-pictures", "--memory-budget", "1"};
+      k.argv = {"/usr/bin/env",
+                "OMPI_ALLOW_RUN_AS_ROOT=1",
+                "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1",
+                "OMPI_MCA_rmaps_base_oversubscribe=1",
+                "mpirun",
+                "-np",
+                np,
+                c.mpi_mapper,
+                c.lidar,
+                "-o",
+                set.path("/mpi"),
+                "-q",
+                "--no-pictures",
+                "--memory-budget",
+                "1"};
       k.setup = lidar;
       k.check = [](const Outcome& o) -> std::string {
         if (o.exit_code != 0 && o.err.find("full") == std::string::npos &&

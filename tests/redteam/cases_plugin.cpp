@@ -3,11 +3,10 @@
 // for something else (class 4), a likelihood scale that overflows MRPT's weights (class 3);
 // ndtom-map --config with the same values as a control. And the user's files named like
 // leftovers beside ndtom-localize's and ndtom-map's outputs (class 5).
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
 #include <map>
-
-#include <Eigen/Geometry>
 
 #include "cases.h"
 #include "hostile_files.h"
@@ -59,11 +58,12 @@ std::vector<Case> pluginCases(const Context& c) {
   // MRPT's own leaks are not ours to report.
   const std::string preload = c.preload.empty() ? "" : c.preload + ":";
   std::ofstream(wrapper) << "#!/bin/sh\nplugin=$1\nshift\nASAN_OPTIONS=detect_leaks=0 LD_PRELOAD=\""
-                         << preload << "$plugin\" \"$@\" </dev/null\n"
+                         << preload
+                         << "$plugin\" \"$@\" </dev/null\n"
                             "rc=$?\n[ $rc -eq 255 ] && exit 1\nexit $rc\n";
   fs::permissions(wrapper, fs::perms::owner_all);
-  const bool mrpt_programs =
-      fs::exists("/usr/bin/observations2map") && fs::exists(kDatasets + "/localization_demo.rawlog");
+  const bool mrpt_programs = fs::exists("/usr/bin/observations2map") &&
+                             fs::exists(kDatasets + "/localization_demo.rawlog");
 
   // observations2map CONFIG.ini demo.simplemap OUT with one insertOpts or likelihoodOpts key
   // set; `expected` checks the map it wrote when it accepts the value ("" if fine).
@@ -71,8 +71,8 @@ std::vector<Case> pluginCases(const Context& c) {
                        const std::string& value, Expect expect,
                        std::function<std::string(const ndtom::NdtMap&)> expected = {}) {
     Case& k = set.add();
-    k.name = "observations2map, " + (section == kInsert ? std::string("insertOpts ")
-                                                        : std::string("likelihoodOpts ")) +
+    k.name = "observations2map, " +
+             (section == kInsert ? std::string("insertOpts ") : std::string("likelihoodOpts ")) +
              key + " = " + value + (name.empty() ? "" : " (" + name + ")");
     k.expect = expect;
     k.one_line = false;
@@ -80,8 +80,12 @@ std::vector<Case> pluginCases(const Context& c) {
     const std::string run = set.path("");
     const std::string ini = run + "/map.ini";
     k.cwd = run;
-    k.argv = {wrapper, c.plugin, "/usr/bin/observations2map", ini,
-              kDatasets + "/localization_demo.simplemap.gz", "out"};
+    k.argv = {wrapper,
+              c.plugin,
+              "/usr/bin/observations2map",
+              ini,
+              kDatasets + "/localization_demo.simplemap.gz",
+              "out"};
     Ini text = {{"MappingApplication", {{"ndtOccupancyMap_count", "1"}}},
                 {"MappingApplication" + kInsert, {{"resolution", "0.2"}, {"max_range", "30"}}},
                 {"MappingApplication" + kLikelihood, {{"decimation", "5"}}}};
@@ -109,7 +113,8 @@ std::vector<Case> pluginCases(const Context& c) {
     return [on](const ndtom::NdtMap& m) -> std::string {
       return m.options().occupancy.enabled == on
                  ? ""
-                 : std::string("silent wrong: occupancy_enabled read as ") + (on ? "false" : "true");
+                 : std::string("silent wrong: occupancy_enabled read as ") +
+                       (on ? "false" : "true");
     };
   };
   const auto resolution = [](double r) {
@@ -146,21 +151,21 @@ std::vector<Case> pluginCases(const Context& c) {
   }
 
   // ndtom-map --config with the same values: its reader is strict (a control).
-  for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
-           {"occupancy_enabled", "maybe"},
-           {"occupancy_enabled", "2"},
-           {"decimation", "4294967298"},
-           {"resolution", "0.2abc"},
-           {"max_range", "100m"},
-           {"resolution", ""}}) {
+  for (const auto& [key, value] :
+       std::vector<std::pair<std::string, std::string>>{{"occupancy_enabled", "maybe"},
+                                                        {"occupancy_enabled", "2"},
+                                                        {"decimation", "4294967298"},
+                                                        {"resolution", "0.2abc"},
+                                                        {"max_range", "100m"},
+                                                        {"resolution", ""}}) {
     Case& k = set.add();
     k.name = "ndtom-map --config, " + key + " = " + value;
     const std::string ini = set.path(".ini");
     k.argv = c.mapper_args(c.tum, set.path("/map"), {"--config", ini, "--max-scans", "1"});
     k.limits.timeout_s = 30;
     k.setup = [ini, key = key, value = value] {
-      std::ofstream(ini) << "[MetricMap_ndtOccupancyMap_00_insertOpts]\n" << key << " = " << value
-                         << "\n";
+      std::ofstream(ini) << "[MetricMap_ndtOccupancyMap_00_insertOpts]\n"
+                         << key << " = " << value << "\n";
       return uint64_t(1400000);
     };
     k.check = [key = key](const Outcome& o) -> std::string {
@@ -184,42 +189,41 @@ std::vector<Case> pluginCases(const Context& c) {
       const std::string ini = run + "/pf.ini";
       k.cwd = run;
       k.argv = {wrapper, c.plugin, "/usr/bin/pf-localization", ini};
-      const Ini text = {
-          {"LocalizationExperiment",
-           {{"use_3D_poses", "true"},
-            {"map_file", kDatasets + "/localization_demo.simplemap.gz"},
-            {"rawlog_file", kDatasets + "/localization_demo.rawlog"},
-            {"logOutput_dir", "LOG_PF"},
-            {"particles_count", "200"},
-            {"init_PDF_mode", "1"},
-            {"init_PDF_min_x", "2"},
-            {"init_PDF_max_x", "5"},
-            {"init_PDF_min_y", "-11.5"},
-            {"init_PDF_max_y", "-9.5"},
-            {"init_PDF_min_yaw_deg", "-50"},
-            {"init_PDF_max_yaw_deg", "10"},
-            {"3DSceneFrequency", "-1"},
-            {"SHOW_PROGRESS_3D_REAL_TIME", "false"},
-            {"experimentRepetitions", "1"}}},
-          {"PF_options",
-           {{"PF_algorithm", "0"},
-            {"resamplingMethod", "0"},
-            {"adaptiveSampleSize", "0"},
-            {"BETA", "0.5"},
-            {"sampleSize", "1"}}},
-          {"KLD_options",
-           {{"KLD_binSize_PHI_deg", "10"},
-            {"KLD_binSize_XY", "0.10"},
-            {"KLD_delta", "0.01"},
-            {"KLD_epsilon", "0.01"},
-            {"KLD_maxSampleSize", "300"},
-            {"KLD_minSampleSize", "150"},
-            {"KLD_minSamplesPerBin", "0"}}},
-          {"DummyOdometryParams", {{"minStdXY", "0.10"}, {"minStdPHI", "2.0"}}},
-          {"MetricMap", {{"ndtOccupancyMap_count", "1"}}},
-          {"MetricMap" + kInsert, {{"resolution", "0.2"}, {"max_range", "30"}}},
-          {"MetricMap" + kLikelihood,
-           {{"decimation", "5"}, {"outlier_likelihood", "0.05"}, {"scale", scale}}}};
+      const Ini text = {{"LocalizationExperiment",
+                         {{"use_3D_poses", "true"},
+                          {"map_file", kDatasets + "/localization_demo.simplemap.gz"},
+                          {"rawlog_file", kDatasets + "/localization_demo.rawlog"},
+                          {"logOutput_dir", "LOG_PF"},
+                          {"particles_count", "200"},
+                          {"init_PDF_mode", "1"},
+                          {"init_PDF_min_x", "2"},
+                          {"init_PDF_max_x", "5"},
+                          {"init_PDF_min_y", "-11.5"},
+                          {"init_PDF_max_y", "-9.5"},
+                          {"init_PDF_min_yaw_deg", "-50"},
+                          {"init_PDF_max_yaw_deg", "10"},
+                          {"3DSceneFrequency", "-1"},
+                          {"SHOW_PROGRESS_3D_REAL_TIME", "false"},
+                          {"experimentRepetitions", "1"}}},
+                        {"PF_options",
+                         {{"PF_algorithm", "0"},
+                          {"resamplingMethod", "0"},
+                          {"adaptiveSampleSize", "0"},
+                          {"BETA", "0.5"},
+                          {"sampleSize", "1"}}},
+                        {"KLD_options",
+                         {{"KLD_binSize_PHI_deg", "10"},
+                          {"KLD_binSize_XY", "0.10"},
+                          {"KLD_delta", "0.01"},
+                          {"KLD_epsilon", "0.01"},
+                          {"KLD_maxSampleSize", "300"},
+                          {"KLD_minSampleSize", "150"},
+                          {"KLD_minSamplesPerBin", "0"}}},
+                        {"DummyOdometryParams", {{"minStdXY", "0.10"}, {"minStdPHI", "2.0"}}},
+                        {"MetricMap", {{"ndtOccupancyMap_count", "1"}}},
+                        {"MetricMap" + kInsert, {{"resolution", "0.2"}, {"max_range", "30"}}},
+                        {"MetricMap" + kLikelihood,
+                         {{"decimation", "5"}, {"outlier_likelihood", "0.05"}, {"scale", scale}}}};
       k.setup = [run, ini, text] {
         fs::create_directories(run);
         std::ofstream(ini) << iniText(text);
@@ -265,8 +269,15 @@ std::vector<Case> pluginCases(const Context& c) {
     lookalikeCase("ndtom-localize beside the user's run.tum.old-20241203 and the like", out,
                   {".tum", ".scans.csv", ".summary.json", ".top.png"}, [&c, out] {
                     return std::vector<std::string>{
-                        c.localizer, c.cityMap(1, "seed1", {"--tiles", "2"}) + ".ndtom", c.city(1),
-                        "-o", out, "-q", "--max-scans", "3", "--initial",
+                        c.localizer,
+                        c.cityMap(1, "seed1", {"--tiles", "2"}) + ".ndtom",
+                        c.city(1),
+                        "-o",
+                        out,
+                        "-q",
+                        "--max-scans",
+                        "3",
+                        "--initial",
                         [&] {
                           // The first true pose: the scans start at the map's first pose.
                           std::ifstream in(c.city(1) + "/poses.txt");
@@ -288,9 +299,17 @@ std::vector<Case> pluginCases(const Context& c) {
     lookalikeCase("ndtom-localize --save-map beside the user's extended.ndtom.old-20241203", ext,
                   {".ndtom"}, [&c, out, ext] {
                     return std::vector<std::string>{
-                        c.localizer, c.cityMap(1, "seed1", {"--tiles", "2"}) + ".ndtom",
-                        c.city(1), "-o", out, "-q", "--no-pictures", "--max-scans", "2",
-                        "--save-map", ext};
+                        c.localizer,
+                        c.cityMap(1, "seed1", {"--tiles", "2"}) + ".ndtom",
+                        c.city(1),
+                        "-o",
+                        out,
+                        "-q",
+                        "--no-pictures",
+                        "--max-scans",
+                        "2",
+                        "--save-map",
+                        ext};
                   });
   }
   {

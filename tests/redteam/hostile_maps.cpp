@@ -4,8 +4,8 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <cmath>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
 #include "mrpt_ndtom/CNDTOccupancyMap.h"

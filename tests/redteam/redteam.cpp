@@ -169,9 +169,9 @@ int main(int argc, char** argv) {
   c.preload = opt.preload;
   c.self = std::filesystem::read_symlink("/proc/self/exe").string();
   std::vector<Case> cases;
-  for (auto* make : {pcdHeaderCases, geometryMemoryCases, loaderCountCases, writableCases,
-                     silentValueCases, outputCases, smallCases, rawlogCases, localizeCases,
-                     optionCases, pluginCases}) {
+  for (auto* make :
+       {pcdHeaderCases, geometryMemoryCases, loaderCountCases, writableCases, silentValueCases,
+        outputCases, smallCases, rawlogCases, localizeCases, optionCases, pluginCases}) {
     std::vector<Case> more = make(c);
     size_t sampleable = 0;  // every N-th of the category's cases that may be sampled
     for (size_t i = 0; i < more.size(); ++i)
@@ -243,8 +243,9 @@ int main(int argc, char** argv) {
   }
   std::printf("| **all** | %d |", total[kColumns]);
   for (int col = 0; col < kColumns; ++col) std::printf(" %d |", total[col]);
-  std::printf(" %.0f MB |\n\nRuns of %.0f GB or more on inputs under 10 MB (but MRPT's crashes): %d\n",
-              double(max_all) / 1e6, double(kOneGigabyteHere) / 1e9, over_1gb_small);
+  std::printf(
+      " %.0f MB |\n\nRuns of %.0f GB or more on inputs under 10 MB (but MRPT's crashes): %d\n",
+      double(max_all) / 1e6, double(kOneGigabyteHere) / 1e9, over_1gb_small);
   if (!problems.empty()) {
     std::printf("\nNot clean:\n");
     for (const auto& p : problems) std::printf("  %s\n", p.c_str());

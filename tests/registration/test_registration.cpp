@@ -114,7 +114,8 @@ TEST(Registration, RecoversAKnownMotionOfASyntheticScan) {
     o.translation_epsilon = 1e-6;
     o.rotation_epsilon = 1e-6;
     NdtRegistration registration(o);
-    const Isometry3d guess = c.truth * poseOf(Vector3d(0.25, -0.2, 0.1), 4 * kDeg, Vector3d(1, 1, 3));
+    const Isometry3d guess =
+        c.truth * poseOf(Vector3d(0.25, -0.2, 0.1), 4 * kDeg, Vector3d(1, 1, 3));
     const RegistrationResult r = registration.align(c.map, c.scan, guess);
     EXPECT_TRUE(r.converged) << toString(method) << ": " << r.failure;
     EXPECT_LT(translationError(r.pose, c.truth), 1e-4) << toString(method);
@@ -246,7 +247,8 @@ TEST(Registration, SameResultForOneAndTwoThreads) {
 
 TEST(Registration, PyramidIsKeptUntilTheMapChanges) {
   NdtMap map = room::roomMap(0.2, 60000);
-  const auto scan = inSensorFrame(room::sampleRoom(5000, 4), poseOf(room::kRoomSensor, 0, Vector3d::UnitZ()));
+  const auto scan =
+      inSensorFrame(room::sampleRoom(5000, 4), poseOf(room::kRoomSensor, 0, Vector3d::UnitZ()));
   NdtRegistration registration;
   const Isometry3d guess = poseOf(room::kRoomSensor, 0, Vector3d::UnitZ());
   EXPECT_TRUE(registration.align(map, scan, guess).pyramid_rebuilt);
@@ -280,8 +282,9 @@ TEST(Registration, APinnedPyramidIsUsedForItsRevision) {
   grown.insertScan(room::sampleRoom(100, 6, 0.0), room::kRoomSensor);  // a new revision
   registration.align(grown, c.scan, guess);
   EXPECT_NE(registration.pyramid(), pinned);
-  EXPECT_THROW(registration.pinPyramid(std::make_shared<const MapPyramid>(c.map, std::vector<int>{2, 1}), 1),
-               std::invalid_argument);
+  EXPECT_THROW(
+      registration.pinPyramid(std::make_shared<const MapPyramid>(c.map, std::vector<int>{2, 1}), 1),
+      std::invalid_argument);
 }
 
 TEST(Registration, PyramidLevelsHoldTheOccupiedGaussiansOfTheCoarsenedMap) {
@@ -429,7 +432,8 @@ TEST(Registration, ScanPointsInOpenFreeSpaceFailTheVerdict) {
     o.max_points = 100000;
     NdtRegistration registration(o);
     const RegistrationResult r =
-        registration.align(map, inSensorFrame(world, truth), truth * poseOf(Vector3d(0.05, 0, 0), 0, Vector3d::UnitZ()));
+        registration.align(map, inSensorFrame(world, truth),
+                           truth * poseOf(Vector3d(0.05, 0, 0), 0, Vector3d::UnitZ()));
     EXPECT_LT(translationError(r.pose, truth), 0.01) << share;
     // (Fractions of the scan's voxels, not points: the floating points are spread thinner.)
     EXPECT_EQ(r.free_fraction < 0.03, share < 0.1) << share << ": " << r.free_fraction;
@@ -491,8 +495,8 @@ TEST(MapPyramid, LevelsCountAgainstTheMapsMemoryBudget) {
     EXPECT_EQ(pyramid.level(l).size(), map.numGaussians()) << l;  // nothing merges
     levels_bytes += pyramid.level(l).memoryBytes();
   }
-  EXPECT_LE(levels_bytes, factors.size() * map.numGaussians() *
-                              ndtom::GaussianLookup::maxBytesPerGaussian());
+  EXPECT_LE(levels_bytes,
+            factors.size() * map.numGaussians() * ndtom::GaussianLookup::maxBytesPerGaussian());
   // A budget the map fits in but not its levels: refused, naming the pyramid.
   ndtom::MapOptions tight = o;
   tight.scan.memory_budget = map.memoryBytes() + levels_bytes / 2;

@@ -29,7 +29,8 @@ TEST(ScanPlacerRules, GroundThinningKeepsOneInKGroundPoints) {
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(-10, 10), n(-0.01, 0.01);
   for (int i = 0; i < 5000; ++i) scan.emplace_back(u(rng), u(rng), -1.8 + n(rng));
-  for (int i = 0; i < 1000; ++i) scan.emplace_back(6 + n(rng), u(rng), -1.5 + 0.2 * std::abs(u(rng)));
+  for (int i = 0; i < 1000; ++i)
+    scan.emplace_back(6 + n(rng), u(rng), -1.5 + 0.2 * std::abs(u(rng)));
   const std::vector<Vector3d> thinned = tracking::thinGround(scan, 10);
   size_t floor = 0, wall = 0;
   for (const Vector3d& p : thinned) (p.z() < -1.7 ? floor : wall)++;
@@ -96,7 +97,8 @@ TEST(ScanPlacer, GroundRingsDoNotHoldAMovingScanWhereTheLastOneWas) {
     std::vector<double> errors;
     for (size_t i = 10; i < poses.size() - 10; i += 4) {
       const Isometry3d truth = raise * poses[i], last = raise * poses[i - 1];
-      const Placement p = placer.place(map, world::simulateScan(city, lidar, poses[i], i), last, last);
+      const Placement p =
+          placer.place(map, world::simulateScan(city, lidar, poses[i], i), last, last);
       errors.push_back(p.outcome == PlacementOutcome::Lost
                            ? 1e9
                            : (p.pose.translation() - truth.translation()).norm());

@@ -54,10 +54,12 @@ TEST(OptionLimits, AbsurdValuesAreRefusedNamingTheOption) {
   // Issue #38: a floor above r² makes every Gaussian wider than its cell (and its picture
   // ellipse wider than the picture); it is refused before any work.
   for (const double m : {0.04 * 1.0001, 1e3, 1e300, inf, nan})
-    expectRejected([m](ndtom::MapOptions& o) {
-      o.resolution = 0.2;
-      o.regularization.min_eigen_abs = m;
-    }, "min_eigen_abs");
+    expectRejected(
+        [m](ndtom::MapOptions& o) {
+          o.resolution = 0.2;
+          o.regularization.min_eigen_abs = m;
+        },
+        "min_eigen_abs");
   EXPECT_THROW(ndtom::rayModeFromString("fast"), std::invalid_argument);
 }
 

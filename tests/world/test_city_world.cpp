@@ -17,9 +17,9 @@
 #include <sstream>
 
 #include "city_route.h"
+#include "ndtom_apps/option_values.h"
 #include "ndtom_io/pcd_reader.h"
 #include "simulated_lidar.h"
-#include "ndtom_apps/option_values.h"
 #include "world_options.h"
 
 namespace ndtom::world {
@@ -42,8 +42,7 @@ std::optional<double> bruteForceRay(const CityWorld& city, const Eigen::Vector3d
 double distanceToSurface(const CityWorld& city, const Eigen::Vector3d& p) {
   double best = std::abs(p.z());
   for (const Box& b : city.boxes()) {
-    const Eigen::Vector3d outside =
-        (b.lo - p).cwiseMax(Eigen::Vector3d::Zero()).cwiseMax(p - b.hi);
+    const Eigen::Vector3d outside = (b.lo - p).cwiseMax(Eigen::Vector3d::Zero()).cwiseMax(p - b.hi);
     const double d = outside.norm() > 0
                          ? outside.norm()
                          : std::min((p - b.lo).minCoeff(), (b.hi - p).minCoeff());  // inside
@@ -112,10 +111,11 @@ TEST(CityRoute, DrivesOnTheStreetsStepByStepThroughNewStreets) {
     EXPECT_NEAR(p.z(), r.sensor_height, 1e-12);
     // On a street's centre line (x or y a multiple of the pitch), or in a corner's quarter
     // circle of 8 m, which stays within 8 (1 - 1/√2) = 2.34 m of the crossing's centre lines.
-    const double fx = std::remainder(p.x(), l.block_pitch), fy = std::remainder(p.y(), l.block_pitch);
+    const double fx = std::remainder(p.x(), l.block_pitch),
+                 fy = std::remainder(p.y(), l.block_pitch);
     const bool on_line = std::abs(fx) < 1e-6 || std::abs(fy) < 1e-6;
-    const bool in_corner = std::abs(fx) <= 8 && std::abs(fy) <= 8 &&
-                           std::min(std::abs(fx), std::abs(fy)) <= 2.35;
+    const bool in_corner =
+        std::abs(fx) <= 8 && std::abs(fy) <= 8 && std::min(std::abs(fx), std::abs(fy)) <= 2.35;
     EXPECT_TRUE(on_line || in_corner) << i << ": " << p.transpose();
     if (i > 0) {
       EXPECT_LE((p - poses[i - 1].translation()).norm(), r.step + 1e-6) << i;
@@ -271,8 +271,8 @@ TEST(WorldgenProgram, SameFilesForAnyThreadCountAndReadableScans) {
   }
   EXPECT_EQ(lines, scans);
   // --noise-seed: the same drive (poses) with other noise (every scan's points differ).
-  const std::string other = std::string(NDTOM_WORLDGEN_EXE) + " " + (dir / "noise").string() +
-                            common + " --noise-seed 2";
+  const std::string other =
+      std::string(NDTOM_WORLDGEN_EXE) + " " + (dir / "noise").string() + common + " --noise-seed 2";
   ASSERT_EQ(std::system(other.c_str()), 0) << other;
   EXPECT_EQ(readAll(dir / "noise" / "poses.txt"), readAll(dir / "1" / "poses.txt"));
   for (size_t i = 0; i < scans; ++i) {
@@ -281,8 +281,8 @@ TEST(WorldgenProgram, SameFilesForAnyThreadCountAndReadableScans) {
     EXPECT_NE(readAll(dir / "noise" / name), readAll(dir / "1" / name)) << name;
   }
   // Bad options are usage errors (exit 2) naming the option.
-  const std::string bad = std::string(NDTOM_WORLDGEN_EXE) + " " + (dir / "bad").string() +
-                          " --step 0 2>/dev/null";
+  const std::string bad =
+      std::string(NDTOM_WORLDGEN_EXE) + " " + (dir / "bad").string() + " --step 0 2>/dev/null";
   EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
   fs::remove_all(dir);
 }
@@ -290,7 +290,8 @@ TEST(WorldgenProgram, SameFilesForAnyThreadCountAndReadableScans) {
 // Runs ndtom-worldgen through sh with `args` (and any shell before it in `prefix`); the exit
 // status, and stderr in `err`.
 int runWorldgen(const std::string& args, std::string& err, const std::string& prefix = "") {
-  const fs::path log = fs::temp_directory_path() / ("ndtom_worldgen_err_" + std::to_string(::getpid()));
+  const fs::path log =
+      fs::temp_directory_path() / ("ndtom_worldgen_err_" + std::to_string(::getpid()));
   const std::string cmd = prefix + "'" + std::string(NDTOM_WORLDGEN_EXE) + "' " + args + " 2>'" +
                           log.string() + "' >/dev/null";
   const int status = std::system(("sh -c \"" + cmd + "\"").c_str());
@@ -304,27 +305,33 @@ int runWorldgen(const std::string& args, std::string& err, const std::string& pr
 // refused by the option check, exit 2, naming the options and the figures, with nothing
 // written. So are more than 10 million scans, and files that would not fit the disk.
 TEST(WorldgenProgram, RunsOverTheLimitsAreRefusedUpFrontNamingTheOptions) {
-  const fs::path dir = fs::temp_directory_path() / ("ndtom_worldgen_big_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("ndtom_worldgen_big_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   const std::string out = "'" + (dir / "out").string() + "'";
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
-      {" --blocks 1000", {"--blocks 1000: a city of 1000x1000 blocks needs", "over the memory budget of"}},
-      {" --blocks 400 --memory-budget 300", {"--blocks 400", "over the memory budget of 300.0 MB (--memory-budget, in MB)"}},
+      {" --blocks 1000",
+       {"--blocks 1000: a city of 1000x1000 blocks needs", "over the memory budget of"}},
+      {" --blocks 400 --memory-budget 300",
+       {"--blocks 400", "over the memory budget of 300.0 MB (--memory-budget, in MB)"}},
       {" --rings 512 --azimuth-steps 36000",
        {"--rings 512 x --azimuth-steps 36000 = 18.432 M rays a scan", "over the memory budget"}},
       {" --rings 64 --azimuth-steps 3600 --threads 8 --memory-budget 40",
        {"--rings 64 x --azimuth-steps 3600", "x --threads 8", "of 40.0 MB"}},
       {" --km 9000", {"--km 9000 (the city is sized for the drive): a city of 336x336 blocks"}},
-      {" --km 10000 --step 1", {"--km 10000 / --step 1 = 10000001 scans: over the limit of 10000000"}},
+      {" --km 10000 --step 1",
+       {"--km 10000 / --step 1 = 10000001 scans: over the limit of 10000000"}},
       {" --km 20 --step 0.001", {"--km 20 / --step 0.001 = 20000001 scans: over the limit"}},
       // Within the limits and the budget, but ~1.5 TB of scans: refused before writing.
-      {" --km 9000 --memory-budget 4000", {"--km 9000 / --step 1 = 9000001 scans", "of files, over the", "free on the disk of"}},
+      {" --km 9000 --memory-budget 4000",
+       {"--km 9000 / --step 1 = 9000001 scans", "of files, over the", "free on the disk of"}},
       {" --memory-budget 0.5", {"--memory-budget 0.5: must be at least 1 MB"}},
   };
   for (const auto& [args, messages] : cases) {
     std::string err;
     EXPECT_EQ(runWorldgen(out + args + " -q", err), 2) << args << ": " << err;
-    for (const std::string& m : messages) EXPECT_NE(err.find(m), std::string::npos) << args << ": " << err;
+    for (const std::string& m : messages)
+      EXPECT_NE(err.find(m), std::string::npos) << args << ": " << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << "one line: " << err;
     EXPECT_FALSE(fs::exists(dir / "out")) << args;
   }
@@ -334,14 +341,15 @@ TEST(WorldgenProgram, RunsOverTheLimitsAreRefusedUpFrontNamingTheOptions) {
     args.insert(args.begin(), {"ndtom-worldgen", "out"});
     return parseWorldOptions(int(args.size()), args.data());
   };
-  EXPECT_NO_THROW(parses({"--rings", "512", "--azimuth-steps", "36000", "--threads", "2",
-                          "--memory-budget", "1500"}));
+  EXPECT_NO_THROW(parses(
+      {"--rings", "512", "--azimuth-steps", "36000", "--threads", "2", "--memory-budget", "1500"}));
   EXPECT_NO_THROW(parses({"--blocks", "400", "--memory-budget", "1000"}));
   EXPECT_NO_THROW(parses({"--km", "9000", "--memory-budget", "1000"}));
   EXPECT_NO_THROW(parses({"--km", "9999.999", "--step", "1", "--memory-budget", "1000"}));
   EXPECT_NO_THROW(parses({"--km", "9.999", "--step", "0.001"}));
   // Without --threads, as many as the budget holds (one at least); with it, refused.
-  const WorldOptions fewer = parses({"--rings", "64", "--azimuth-steps", "3600", "--memory-budget", "40"});
+  const WorldOptions fewer =
+      parses({"--rings", "64", "--azimuth-steps", "3600", "--memory-budget", "40"});
   EXPECT_GE(fewer.threads, 1);
   EXPECT_LE(double(runBytes(fewer)), 40e6);
   EXPECT_THROW(parses({"--rings", "64", "--azimuth-steps", "3600", "--memory-budget", "40",
@@ -368,9 +376,11 @@ TEST(CityWorld, EstimatedBytesBoundWhatTheCityHolds) {
 // its 101 lines take ~20 kB, the scans under 1 kB each) leaves none in the folder, and
 // nothing else of its own; the same run without the limit writes them all.
 TEST(WorldgenProgram, AFailedRunLeavesNoScanBehind) {
-  const fs::path dir = fs::temp_directory_path() / ("ndtom_worldgen_fail_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("ndtom_worldgen_fail_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const std::string args = "'" + dir.string() + "' --km 0.1 --step 1 --rings 2 --azimuth-steps 8 -q";
+  const std::string args =
+      "'" + dir.string() + "' --km 0.1 --step 1 --rings 2 --azimuth-steps 8 -q";
   std::string err;
   // SIGXFSZ ignored: a write past the limit fails with EFBIG instead of killing the program.
   EXPECT_EQ(runWorldgen(args, err, "trap '' XFSZ; ulimit -f 8; "), 1) << err;

@@ -124,8 +124,7 @@ void CNDTOccupancyMap::determineMatching(const mrpt::maps::CMetricMap* otherMap,
   correspondences.clear();
   extraResults = mrpt::maps::TMatchingExtraResults();
   const mrpt::maps::CPointsMap* other = asPointsMap(otherMap);
-  if (!other)
-    THROW_EXCEPTION("CNDTOccupancyMap::determineMatching: otherMap must be a CPointsMap");
+  if (!other) THROW_EXCEPTION("CNDTOccupancyMap::determineMatching: otherMap must be a CPointsMap");
 
   ndtom::CorrespondenceOptions co;
   co.max_distance = params.maxDistForCorrespondence;

@@ -61,8 +61,9 @@ void CNDTRegistration::TConfigParams::loadFromConfigFile(
 void CNDTRegistration::TConfigParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                                        const std::string& s) const {
   const ndtom::RegistrationOptions& o = core;
-  c.write(s, "method", std::string(ndtom::toString(o.method)), mrpt::config::MRPT_SAVE_NAME_PADDING(),
-          mrpt::config::MRPT_SAVE_VALUE_PADDING(), "p2d (points to map Gaussians) | d2d (scan NDT)");
+  c.write(s, "method", std::string(ndtom::toString(o.method)),
+          mrpt::config::MRPT_SAVE_NAME_PADDING(), mrpt::config::MRPT_SAVE_VALUE_PADDING(),
+          "p2d (points to map Gaussians) | d2d (scan NDT)");
   c.write(s, "level_factors", factorsText(o.level_factors), mrpt::config::MRPT_SAVE_NAME_PADDING(),
           mrpt::config::MRPT_SAVE_VALUE_PADDING(), "Pyramid levels, coarse to fine, in map cells");
   c.write(s, "outlier_ratio", o.outlier_ratio, mrpt::config::MRPT_SAVE_NAME_PADDING(),
@@ -74,7 +75,8 @@ void CNDTRegistration::TConfigParams::saveToConfigFile(mrpt::config::CConfigFile
   c.write(s, "rotation_epsilon", o.rotation_epsilon, mrpt::config::MRPT_SAVE_NAME_PADDING(),
           mrpt::config::MRPT_SAVE_VALUE_PADDING(), "... and turns less [rad]");
   c.write(s, "min_range", o.min_range, mrpt::config::MRPT_SAVE_NAME_PADDING(),
-          mrpt::config::MRPT_SAVE_VALUE_PADDING(), "Scan points closer to the sensor are unused [m]");
+          mrpt::config::MRPT_SAVE_VALUE_PADDING(),
+          "Scan points closer to the sensor are unused [m]");
   c.write(s, "max_range", o.max_range, mrpt::config::MRPT_SAVE_NAME_PADDING(),
           mrpt::config::MRPT_SAVE_VALUE_PADDING(), "... and farther ones [m]");
   c.write(s, "voxel_ratio", o.voxel_ratio, mrpt::config::MRPT_SAVE_NAME_PADDING(),
@@ -88,7 +90,8 @@ void CNDTRegistration::TConfigParams::saveToConfigFile(mrpt::config::CConfigFile
           mrpt::config::MRPT_SAVE_VALUE_PADDING(),
           "Verdict: scan share where the map has looked, at least");
   c.write(s, "max_free_fraction", o.max_free_fraction, mrpt::config::MRPT_SAVE_NAME_PADDING(),
-          mrpt::config::MRPT_SAVE_VALUE_PADDING(), "Verdict: scan share in open free space, at most");
+          mrpt::config::MRPT_SAVE_VALUE_PADDING(),
+          "Verdict: scan share in open free space, at most");
   c.write(s, "planar", o.planar, mrpt::config::MRPT_SAVE_NAME_PADDING(),
           mrpt::config::MRPT_SAVE_VALUE_PADDING(), "Only x, y, yaw (2D)");
   c.write(s, "threads", o.threads, mrpt::config::MRPT_SAVE_NAME_PADDING(),

@@ -128,7 +128,8 @@ void TRenderOptions::readFromStream(mrpt::serialization::CArchive& in) {
       if (version >= 1) {
         read.generate_occupied_voxels =
             detail::readBool(in, "renderOptions.generate_occupied_voxels");
-        read.visible_occupied_voxels = detail::readBool(in, "renderOptions.visible_occupied_voxels");
+        read.visible_occupied_voxels =
+            detail::readBool(in, "renderOptions.visible_occupied_voxels");
         read.generate_free_voxels = detail::readBool(in, "renderOptions.generate_free_voxels");
         read.visible_free_voxels = detail::readBool(in, "renderOptions.visible_free_voxels");
       }

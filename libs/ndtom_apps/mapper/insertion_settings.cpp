@@ -129,7 +129,7 @@ void checkSection(const mrpt::config::CConfigFileBase& file, const std::string& 
 InsertionOptions programDefaults() {
   InsertionOptions o;
   o.scan.threads = std::clamp(int32_t(std::thread::hardware_concurrency()), int32_t(1),
-                                   int32_t(ndtom::ScanOptions::kMaxThreads));
+                              int32_t(ndtom::ScanOptions::kMaxThreads));
   return o;
 }
 

@@ -111,8 +111,10 @@ void checkComplete(const MapperOptions& o) {
     throw UsageError("-o " + o.prefix + ": PREFIX names files, e.g. out/map, not a folder");
   if (o.resident_budget_mb > 0) {
     // These outputs are made from the whole map, which an out-of-core build never holds.
-    if (o.coarse) throw UsageError("--coarse needs the whole map in memory: not with --resident-budget");
-    if (o.octomap) throw UsageError("--octomap needs the whole map in memory: not with --resident-budget");
+    if (o.coarse)
+      throw UsageError("--coarse needs the whole map in memory: not with --resident-budget");
+    if (o.octomap)
+      throw UsageError("--octomap needs the whole map in memory: not with --resident-budget");
   } else if (!o.spill_dir.empty()) {
     throw UsageError("--spill-dir " + o.spill_dir + ": only with --resident-budget");
   }
@@ -206,7 +208,8 @@ std::string helpText() {
        "  --no-pictures             skip the PNGs\n"
        "  --octomap                 also PREFIX.bt: the map as an OctoMap (octovis, OctoMap's\n"
        "                            tools), occupied and free cells with their log-odds\n"
-       "  --tiles B                 also PREFIX.ndtomtiles: the map in tiles of B blocks (8 cells)\n"
+       "  --tiles B                 also PREFIX.ndtomtiles: the map in tiles of B blocks (8 "
+       "cells)\n"
        "                            a side, for loading by region (ndtom-localize)\n"
        "  --image-width W           picture width [px] (1200)\n"
        "  --max-ellipsoids N        Gaussians drawn in the 3D picture and scene (50000)\n"

@@ -112,7 +112,7 @@ mrpt_ndtom::TRenderOptions renderOptionsFor(const ndtom::NdtMap& map, const Heig
   o.color_max_z = scale.z_max;
   o.max_ellipsoids = max_ellipsoids;
   const size_t drawn = std::min<size_t>(map.numGaussians(), max_ellipsoids);
-  o.subdivisions = detail >= 0 ? mrpt_ndtom::subdivisionsWithinBudget(drawn, uint32_t(detail))
+  o.subdivisions = detail >= 0      ? mrpt_ndtom::subdivisionsWithinBudget(drawn, uint32_t(detail))
                    : drawn <= 8000  ? 2
                    : drawn <= 20000 ? 1
                                     : 0;

@@ -263,7 +263,7 @@ class CNDTOccupancyMap : public mrpt::maps::CMetricMap, public mrpt::system::COu
   mutable std::shared_ptr<const ndtom::NdtMclMap> m_mcl_map;      ///< null when stale
   mutable int m_mcl_factor = 0;                                   ///< m_mcl_map's coarsening
   /// The Gaussians' means in the x-y plane, for squareDistanceToClosestCorrespondence.
-  mutable std::shared_ptr<const ndtom::PointKdTree> m_means_xy;   ///< null when stale
+  mutable std::shared_ptr<const ndtom::PointKdTree> m_means_xy;  ///< null when stale
   /// Each map object has its own (a copy starts with an empty one); never null.
   std::shared_ptr<detail::ScanNdtCache> m_scan_ndts;
 

@@ -32,7 +32,8 @@ struct DrawnGaussian {
 };
 
 /// The Gaussians that `options` draw: those of occupied cells above `min_logodds`, the
-/// best-supported `max_ellipsoids` (at most kMaxSceneTriangles / 8) of them, in cell order. Throws on invalid options.
+/// best-supported `max_ellipsoids` (at most kMaxSceneTriangles / 8) of them, in cell order. Throws
+/// on invalid options.
 std::vector<DrawnGaussian> drawnGaussians(const ndtom::NdtMap& map, const TRenderOptions& options);
 
 /// Appends to `out` a CSetOfTriangles named "ndtom_gaussians" (if any Gaussian qualifies)

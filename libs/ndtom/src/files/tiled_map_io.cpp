@@ -131,7 +131,8 @@ TiledMapFile::TiledMapFile(std::string path) : path_(std::move(path)) {
   const auto readAt = [&](uint64_t at, uint64_t n) {
     std::string bytes(n, '\0');
     in.seekg(std::streamoff(at));
-    if (!in.read(bytes.data(), std::streamsize(n))) throw std::runtime_error("cannot read " + path_);
+    if (!in.read(bytes.data(), std::streamsize(n)))
+      throw std::runtime_error("cannot read " + path_);
     return bytes;
   };
   constexpr size_t kFixed = sizeof kMagic + 4 + 4 + 8;
@@ -152,8 +153,8 @@ TiledMapFile::TiledMapFile(std::string path) : path_(std::move(path)) {
   if (index_at < header.size() || index_at > file_size - kTrailerBytes - 8)
     throw bad("index offset");
   const std::string index = readAt(index_at, file_size - kTrailerBytes - index_at);
-  const uint32_t crc = crc32(trailer.data(), 8, crc32(index.data(), index.size(),
-                                                      crc32(header.data(), header.size())));
+  const uint32_t crc = crc32(
+      trailer.data(), 8, crc32(index.data(), index.size(), crc32(header.data(), header.size())));
   if (crc != uint32_t(getLE(trailer, 8, 4))) throw bad("index checksum mismatch");
   // The checksum holds: the options and the index are as written.
   options_ = decodeMap(reinterpret_cast<const uint8_t*>(options.data()), options.size(),
@@ -195,7 +196,8 @@ std::string TiledMapFile::tileSource(const TileInfo& tile) const {
 
 NdtMap TiledMapFile::loadTile(const TileInfo& tile, uint64_t memory_budget) const {
   const std::string source = tileSource(tile);
-  if (tile.size > memory_budget) throw MemoryBudgetError("loading " + source, tile.size, memory_budget);
+  if (tile.size > memory_budget)
+    throw MemoryBudgetError("loading " + source, tile.size, memory_budget);
   std::ifstream in(path_, std::ios::binary);
   std::string bytes(tile.size, '\0');
   in.seekg(std::streamoff(tile.offset));

@@ -80,8 +80,8 @@ class SearchAroundGrid {
     const int64_t i = int64_t(cell / side()) - cells_, j = int64_t(cell % side()) - cells_;
     if (!inside(i, j)) return false;
     pose = centre;
-    pose.linear() = Eigen::AngleAxisd(double(k) * yaw_step_, Eigen::Vector3d::UnitZ()) *
-                    centre.linear();
+    pose.linear() =
+        Eigen::AngleAxisd(double(k) * yaw_step_, Eigen::Vector3d::UnitZ()) * centre.linear();
     pose.translation() += Eigen::Vector3d(double(i) * step_, double(j) * step_, 0);
     return true;
   }
@@ -92,9 +92,8 @@ class SearchAroundGrid {
 };
 
 std::string tooManyPoses(size_t poses, const char* grid, const char* smaller) {
-  return "the search would score " + std::to_string(poses) + " poses (" + grid +
-         "), more than " + std::to_string(kMaxSearchPoses) +
-         ": raise position_step, or lower " + smaller;
+  return "the search would score " + std::to_string(poses) + " poses (" + grid + "), more than " +
+         std::to_string(kMaxSearchPoses) + ": raise position_step, or lower " + smaller;
 }
 
 bool better(const Hypothesis& a, const Hypothesis& b) {
@@ -279,9 +278,9 @@ GlobalLocalizationResult GlobalLocalizer::localize(const NdtMap& map,
   const PoseAt pose_at = [&](size_t i, Eigen::Isometry3d& pose) {
     const global::GroundColumn& column = columns[i / yaws];
     pose.setIdentity();
-    pose.linear() = Eigen::AngleAxisd(2 * M_PI * double(i % yaws) / double(yaws),
-                                      Eigen::Vector3d::UnitZ()) *
-                    level_rotation;
+    pose.linear() =
+        Eigen::AngleAxisd(2 * M_PI * double(i % yaws) / double(yaws), Eigen::Vector3d::UnitZ()) *
+        level_rotation;
     pose.translation() =
         Eigen::Vector3d(column.centre.x(), column.centre.y(), column.z + result.gravity.height);
     return true;
@@ -326,9 +325,9 @@ void GlobalLocalizer::searchAmong(const NdtMap& map, const std::vector<Eigen::Ve
                                   GlobalLocalizationResult& result) {
   // Every hypothesis scored on one coarse level.
   const auto scoring_start = Clock::now();
-  const std::vector<Hypothesis> hypotheses = scoreHypotheses(
-      map, scan, grid_size, pose_at, options_.refined, registration_, options_, ground_->pool,
-      result.hypotheses);
+  const std::vector<Hypothesis> hypotheses =
+      scoreHypotheses(map, scan, grid_size, pose_at, options_.refined, registration_, options_,
+                      ground_->pool, result.hypotheses);
   result.scoring_seconds = secondsSince(scoring_start);
 
   // The best few on the coarse levels; of the distinct poses they reach, the best few on

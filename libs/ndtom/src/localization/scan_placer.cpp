@@ -21,7 +21,9 @@ RegistrationOptions levelling(RegistrationOptions o) {
   return o;
 }
 
-bool levels(const PlacementOptions& o) { return o.ground_thinning > 1 && !o.registration.planar; }
+bool levels(const PlacementOptions& o) {
+  return o.ground_thinning > 1 && !o.registration.planar;
+}
 
 }  // namespace
 
@@ -77,8 +79,7 @@ Placement ScanPlacer::place(const NdtMap& map, const std::vector<Eigen::Vector3d
                      last_pose, placement);
   if (placement.outcome == PlacementOutcome::Lost) return placement;
   placement.weak_directions = tracking::keepPredictionAlongWeakDirections(
-      placement.pose, prediction, placement.registration.covariance,
-      options_.weak_direction_sigma);
+      placement.pose, prediction, placement.registration.covariance, options_.weak_direction_sigma);
   if (levels(options_)) level(map, points, placement);
   return placement;
 }

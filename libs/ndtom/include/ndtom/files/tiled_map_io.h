@@ -38,8 +38,8 @@ struct TileInfo {
 };
 
 /// Writes `map` to `path` as tiles of `tile_blocks` blocks a side (atomically, as saveMap).
-/// Throws std::invalid_argument for tile_blocks outside 1..kMaxTileBlocks, std::runtime_error naming the
-/// path if it cannot be written.
+/// Throws std::invalid_argument for tile_blocks outside 1..kMaxTileBlocks, std::runtime_error
+/// naming the path if it cannot be written.
 void saveTiledMap(const NdtMap& map, const std::string& path, int tile_blocks);
 
 /// Receives the tiles of a map being written, one at a time in ascending tile order, each

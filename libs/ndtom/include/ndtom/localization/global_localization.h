@@ -56,7 +56,8 @@ size_t searchAroundPoses(const GlobalSearchOptions& options, double radius, doub
 /// `search` with its scoring and coarse refinement levels moved to the nearest of the
 /// registration's `level_factors` (they score and sort on pyramid levels), when those leave
 /// the defaults out.
-GlobalSearchOptions fittedToLevels(GlobalSearchOptions search, const std::vector<int>& level_factors);
+GlobalSearchOptions fittedToLevels(GlobalSearchOptions search,
+                                   const std::vector<int>& level_factors);
 
 /// The ground in the scan: the sensor's up direction and height above it.
 struct GravityGuess {
@@ -68,8 +69,8 @@ struct GravityGuess {
 
 struct GlobalLocalizationResult {
   bool found = false;
-  std::string failure;           ///< why not, if not found
-  RegistrationResult best;       ///< the refined winner (its verdict: converged)
+  std::string failure;      ///< why not, if not found
+  RegistrationResult best;  ///< the refined winner (its verdict: converged)
   GravityGuess gravity;
   size_t ground_columns = 0;     ///< x, y cells of the map with ground (global search)
   size_t hypotheses = 0;         ///< scored

@@ -113,7 +113,7 @@ class GaussianLookup {
   GridGeometry geometry_;
   std::vector<PreparedGaussian> gaussians_;
   BlockGrid<IndexBlock> by_cell_;  // blocks, not a hash per cell: neighbours share a block
-  std::vector<uint32_t> slots_;     // indices into gaussians_, sparse block by sparse block
+  std::vector<uint32_t> slots_;    // indices into gaussians_, sparse block by sparse block
   PointKdTree means_;
 };
 
