@@ -103,6 +103,10 @@ std::vector<Case> pluginCases(const Context& c);    // 10: the plugin's .ini, ou
 
 /// KITTI poses.txt: the positions (sensor -> world translations), one per line.
 std::vector<Eigen::Vector3d> kittiPositions(const std::string& path);
+/// The pose on line `line_index` of KITTI `poses`, moved by dx, dy (m) and yaw (degrees), as
+/// ndtom-localize's --initial "x y z qx qy qz qw".
+std::string initialPose(const std::string& poses, double dx = 0, double dy = 0, double yaw_deg = 0,
+                        size_t line_index = 0);
 /// ndtom-localize's PREFIX.scans.csv against the scans' true positions: "" if every scan it
 /// calls placed (not lost) is within `tolerance` m of its truth (with `none_placed`: if
 /// none is placed at all), else "silent wrong: ..." naming the first and counting them.

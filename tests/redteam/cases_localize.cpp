@@ -32,6 +32,24 @@ std::vector<Eigen::Vector3d> kittiPositions(const std::string& path) {
   return positions;
 }
 
+std::string initialPose(const std::string& poses, double dx, double dy, double yaw_deg,
+                        size_t line_index) {
+  std::ifstream in(poses);
+  std::string line;
+  for (size_t i = 0; i <= line_index; ++i) std::getline(in, line);
+  std::istringstream s(line);
+  double v[12] = {};
+  for (double& x : v) s >> x;
+  Eigen::Matrix3d r;
+  r << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitZ()) * r);
+  std::ostringstream out;
+  out.precision(10);
+  out << v[3] + dx << " " << v[7] + dy << " " << v[11] << " " << q.x() << " " << q.y() << " "
+      << q.z() << " " << q.w();
+  return out.str();
+}
+
 namespace {
 
 // The fields of one CSV line (no quoting: ndtom-localize's cells have no commas).
@@ -62,26 +80,6 @@ double number(const std::map<std::string, std::string>& row, const std::string& 
   const auto it = row.find(key);
   return it == row.end() || it->second.empty() ? std::nan("")
                                                : std::strtod(it->second.c_str(), nullptr);
-}
-
-// The first KITTI pose of `poses` moved by `offset` (metres in x, y; degrees of yaw), as
-// --initial's "x y z qx qy qz qw".
-std::string initialPose(const std::string& poses, double dx = 0, double dy = 0, double yaw_deg = 0,
-                        size_t line_index = 0) {
-  std::ifstream in(poses);
-  std::string line;
-  for (size_t i = 0; i <= line_index; ++i) std::getline(in, line);
-  std::istringstream s(line);
-  double v[12] = {};
-  for (double& x : v) s >> x;
-  Eigen::Matrix3d r;
-  r << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
-  const Eigen::Quaterniond q(Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitZ()) * r);
-  std::ostringstream out;
-  out.precision(10);
-  out << v[3] + dx << " " << v[7] + dy << " " << v[11] << " " << q.x() << " " << q.y() << " "
-      << q.z() << " " << q.w();
-  return out.str();
 }
 
 // poses.txt with every position moved by `dx` m in x.

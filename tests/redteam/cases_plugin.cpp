@@ -3,10 +3,8 @@
 // for something else (class 4), a likelihood scale that overflows MRPT's weights (class 3);
 // ndtom-map --config with the same values as a control. And the user's files named like
 // leftovers beside ndtom-localize's and ndtom-map's outputs (class 5).
-#include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
-#include <map>
 
 #include "cases.h"
 #include "hostile_files.h"
@@ -269,28 +267,10 @@ std::vector<Case> pluginCases(const Context& c) {
     lookalikeCase("ndtom-localize beside the user's run.tum.old-20241203 and the like", out,
                   {".tum", ".scans.csv", ".summary.json", ".top.png"}, [&c, out] {
                     return std::vector<std::string>{
-                        c.localizer,
-                        c.cityMap(1, "seed1", {"--tiles", "2"}) + ".ndtom",
-                        c.city(1),
-                        "-o",
-                        out,
-                        "-q",
-                        "--max-scans",
-                        "3",
-                        "--initial",
-                        [&] {
-                          // The first true pose: the scans start at the map's first pose.
-                          std::ifstream in(c.city(1) + "/poses.txt");
-                          double v[12] = {};
-                          for (double& x : v) in >> x;
-                          Eigen::Matrix3d r;
-                          r << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
-                          const Eigen::Quaterniond q(r);
-                          return std::to_string(v[3]) + " " + std::to_string(v[7]) + " " +
-                                 std::to_string(v[11]) + " " + std::to_string(q.x()) + " " +
-                                 std::to_string(q.y()) + " " + std::to_string(q.z()) + " " +
-                                 std::to_string(q.w());
-                        }()};
+                        c.localizer, c.cityMap(1, "seed1", {"--tiles", "2"}) + ".ndtom", c.city(1),
+                        "-o", out, "-q", "--max-scans", "3", "--initial",
+                        // The scans start at the map's first pose.
+                        initialPose(c.city(1) + "/poses.txt")};
                   });
   }
   {
