@@ -1,5 +1,5 @@
-// A memory-budget error as the programs word it: the core names its option memory_budget,
-// the programs --memory-budget, in MB.
+// A memory-budget error as the mapping programs (ndtom-map, ndtom-map-mpi) word it: the core
+// names its option memory_budget, they --memory-budget, in MB.
 #pragma once
 
 #include <string>
