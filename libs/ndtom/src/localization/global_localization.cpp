@@ -65,8 +65,8 @@ class SearchAroundGrid {
   /// The x, y grid points inside the circle (one row at a time: no loop over the square).
   size_t inCircle() const {
     size_t n = 0;
+    const double reach = radius_ / step_;
     for (int64_t i = -cells_; i <= cells_; ++i) {
-      const double reach = radius_ / step_;
       int64_t j = std::min<int64_t>(
           cells_, int64_t(std::sqrt(std::max(0.0, reach * reach - double(i * i)))) + 1);
       while (j >= 0 && !inside(i, j)) --j;
@@ -91,9 +91,9 @@ class SearchAroundGrid {
   int64_t cells_, yaws_;
 };
 
-std::string tooManyPoses(size_t poses, const char* grid, const char* smaller) {
+std::string tooManyPoses(size_t poses, const char* grid, const char* advice) {
   return "the search would score " + std::to_string(poses) + " poses (" + grid + "), more than " +
-         std::to_string(kMaxSearchPoses) + ": raise position_step, or lower " + smaller;
+         std::to_string(kMaxSearchPoses) + ": " + advice;
 }
 
 bool better(const Hypothesis& a, const Hypothesis& b) {
@@ -287,7 +287,8 @@ GlobalLocalizationResult GlobalLocalizer::localize(const NdtMap& map,
   };
   const size_t poses = columns.size() * yaws;
   if (poses > kMaxSearchPoses) {
-    result.failure = tooManyPoses(poses, "ground columns x yaws", "yaw_step_deg");
+    result.failure =
+        tooManyPoses(poses, "ground columns x yaws", "raise position_step or yaw_step_deg");
   } else {
     searchAmong(map, scan, poses, pose_at, result);
   }
@@ -309,7 +310,8 @@ GlobalLocalizationResult GlobalLocalizer::searchAround(const NdtMap& map,
   const SearchAroundGrid grid(options_, radius, yaw_range_deg);
   const size_t poses = grid.inCircle() * grid.yawCount();
   if (poses > kMaxSearchPoses) {
-    result.failure = tooManyPoses(poses, "the circle's grid x yaws", "radius, yaw range");
+    result.failure = tooManyPoses(poses, "the circle's grid x yaws",
+                                  "raise position_step, or lower the radius or the yaw range");
   } else {
     const PoseAt pose_at = [&](size_t i, Eigen::Isometry3d& pose) {
       return grid.poseAt(i, centre, pose);
