@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <random>
+#include <map>
 #include <set>
 
 #include "ndtom/matching/gaussian_lookup.h"
@@ -14,6 +15,7 @@ using Eigen::Matrix3d;
 using Eigen::Vector3d;
 using ndtom::GaussianLookup;
 using ndtom::NdtMap;
+using ndtom::PreparedGaussian;
 
 namespace {
 
@@ -23,16 +25,30 @@ NdtMap roomMap(double resolution) {
 
 }  // namespace
 
-TEST(GaussianLookup, HoldsEveryGaussianOfTheMapInCellOrder) {
+std::vector<const PreparedGaussian*> gaussiansOf(const GaussianLookup& lookup) {
+  std::vector<const PreparedGaussian*> out;
+  lookup.forEachGaussian([&](const PreparedGaussian& g) { out.push_back(&g); });
+  return out;
+}
+
+TEST(GaussianLookup, HoldsEveryGaussianOfTheMapInBlockOrder) {
   const NdtMap map = roomMap(0.5);
   const GaussianLookup lookup(map);
   ASSERT_GT(lookup.size(), 100u);
   EXPECT_EQ(lookup.size(), map.numGaussians());
-  for (size_t i = 1; i < lookup.size(); ++i)
-    EXPECT_TRUE(lookup.gaussians()[i - 1].cell < lookup.gaussians()[i].cell);
+  const auto gaussians = gaussiansOf(lookup);
+  ASSERT_EQ(gaussians.size(), lookup.size());
+  for (size_t i = 1; i < gaussians.size(); ++i) {
+    const ndtom::CellIndex a = gaussians[i - 1]->cell, b = gaussians[i]->cell;
+    EXPECT_TRUE(ndtom::blockOf(a) < ndtom::blockOf(b) ||
+                (ndtom::blockOf(a) == ndtom::blockOf(b) &&
+                 ndtom::offsetInBlock(a) < ndtom::offsetInBlock(b)));
+  }
   EXPECT_EQ(lookup.means().size(), lookup.size());
+  for (uint32_t i = 0; i < gaussians.size(); ++i) EXPECT_EQ(&lookup.meanOwner(i), gaussians[i]);
 
-  for (const auto& g : lookup.gaussians()) {
+  for (const PreparedGaussian* owned : gaussians) {
+    const PreparedGaussian& g = *owned;
     const auto expected = map.gaussian(g.cell, ndtom::Covariance::Regularized);
     ASSERT_TRUE(expected.has_value());
     EXPECT_EQ(g.n, expected->n);
@@ -75,7 +91,7 @@ TEST(GaussianLookup, ProjectionMovesAPointOntoAPlanarCellsPlane) {
   map.insertScan(points, Vector3d(0.5, 0.5, 3.0));
   const GaussianLookup lookup(map);
   ASSERT_EQ(lookup.size(), 1u);
-  const auto& g = lookup.gaussians()[0];
+  const auto& g = *gaussiansOf(lookup)[0];
   const Vector3d p(0.3, 0.7, 0.4);
   const Vector3d foot = p - g.projection * (p - g.mean);
   EXPECT_NEAR(foot.z(), 0.05, 1e-12);
@@ -94,8 +110,8 @@ TEST(GaussianLookup, SingularCovarianceStillHasAFiniteInverse) {
   map.insertScan({{0.1, 0.5, 0.5}, {0.5, 0.5, 0.5}, {0.9, 0.5, 0.5}}, Vector3d(0.5, 0.5, 5));
   const GaussianLookup lookup(map);
   ASSERT_EQ(lookup.size(), 1u);
-  EXPECT_TRUE(lookup.gaussians()[0].information.allFinite());
-  EXPECT_TRUE(lookup.gaussians()[0].projection.allFinite());
+  EXPECT_TRUE(gaussiansOf(lookup)[0]->information.allFinite());
+  EXPECT_TRUE(gaussiansOf(lookup)[0]->projection.allFinite());
 }
 
 TEST(GaussianLookup, EmptyMap) {
@@ -177,4 +193,50 @@ TEST(GaussianLookup, SparseAndFullBlocksAreIndexedByRank) {
   EXPECT_LE(lookup.memoryBytes(), cells.size() * GaussianLookup::maxBytesPerGaussian() +
                                       map.numBlocks() * 2 * sizeof(void*));
   EXPECT_LT(GaussianLookup::maxBytesPerGaussian(), 512u);
+}
+
+TEST(GaussianLookup, UpdateGivesTheLookupOfTheChangedSet) {
+  // Two maps' Gaussians on one grid: the lookup of the first, updated to drop some cells,
+  // change others and add new ones, against a lookup built from the resulting set.
+  const NdtMap a = roomMap(0.5);
+  const NdtMap b = ndtom::testing::roomMap(0.5, 20000);
+  std::vector<ndtom::Gaussian> first, second;
+  a.forEachGaussian([&](const ndtom::Gaussian& g) { first.push_back(g); });
+  b.forEachGaussian([&](const ndtom::Gaussian& g) { second.push_back(g); });
+  ASSERT_GT(first.size(), 100u);
+  const ndtom::LookupOptions no_tree{false, false};
+  GaussianLookup lookup(a.geometry(), first, no_tree);
+  std::map<ndtom::CellIndex, ndtom::Gaussian> expected;
+  for (const auto& g : first) expected[g.cell] = g;
+  std::vector<ndtom::CellChange> changes;
+  for (size_t i = 0; i < first.size(); i += 3) {  // a third of the cells lose their Gaussian
+    changes.push_back({first[i].cell, std::nullopt});
+    expected.erase(first[i].cell);
+  }
+  for (size_t i = 0; i < second.size(); i += 2) {  // half of b's replace or join
+    if (expected.count(second[i].cell) == 0 &&
+        std::any_of(changes.begin(), changes.end(),
+                    [&](const auto& c) { return c.cell == second[i].cell; }))
+      continue;  // one change per cell
+    changes.push_back({second[i].cell, ndtom::prepared(second[i])});
+    expected[second[i].cell] = second[i];
+  }
+  changes.push_back({{1000, 1000, 1000}, std::nullopt});  // a cell that never had one
+  lookup.update(changes);
+  std::vector<ndtom::Gaussian> remaining;
+  for (const auto& [cell, g] : expected) remaining.push_back(g);
+  const GaussianLookup rebuilt(a.geometry(), remaining, no_tree);
+  ASSERT_EQ(lookup.size(), rebuilt.size());
+  const auto got = gaussiansOf(lookup), want = gaussiansOf(rebuilt);
+  ASSERT_EQ(got.size(), want.size());
+  for (size_t i = 0; i < got.size(); ++i) {
+    EXPECT_EQ(got[i]->cell, want[i]->cell);
+    EXPECT_EQ(got[i]->mean, want[i]->mean);
+    EXPECT_EQ(got[i]->information, want[i]->information);
+    EXPECT_EQ(lookup.find(got[i]->cell), got[i]);
+  }
+  for (size_t i = 0; i < first.size(); i += 3)
+    if (expected.count(first[i].cell) == 0) EXPECT_EQ(lookup.find(first[i].cell), nullptr);
+  GaussianLookup with_tree(a.geometry(), first);
+  EXPECT_THROW(with_tree.update({}), std::logic_error) << "its k-d tree would go stale";
 }

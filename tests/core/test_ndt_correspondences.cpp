@@ -95,7 +95,7 @@ TEST(NdtCorrespondences, MatchBruteForce) {
         ASSERT_EQ(got, want.found) << "point " << i << " k " << k << " r " << radius;
         if (!got) continue;
         const auto& pair = result.pairs[next++];
-        EXPECT_EQ(lookup.gaussians()[pair.gaussian].cell, want.cell);
+        EXPECT_EQ(lookup.meanOwner(pair.gaussian).cell, want.cell);
         EXPECT_LT((pair.target - want.target).norm(), 1e-9);
         EXPECT_NEAR(pair.squared_distance, (pair.target - scan[i]).squaredNorm(), 1e-12);
       }

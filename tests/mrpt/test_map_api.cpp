@@ -276,7 +276,8 @@ TEST(MapApi, SquareDistanceToClosestCorrespondenceIsTheNearestMeanInThePlane) {
   EXPECT_EQ(map.squareDistanceToClosestCorrespondence(0, 0),
             std::numeric_limits<float>::infinity());
   for (const auto& f : frames) map.insertObservation(*f.scan, f.pose);
-  const auto& gaussians = map.gaussianLookup()->gaussians();
+  std::vector<ndtom::PreparedGaussian> gaussians;
+  map.gaussianLookup()->forEachGaussian([&](const auto& g) { gaussians.push_back(g); });
   ASSERT_GT(gaussians.size(), 100u);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-20, 20);

@@ -68,7 +68,8 @@ float CNDTOccupancyMap::squareDistanceToClosestCorrespondence(float x0, float y0
     if (!m_means_xy) {
       std::vector<Vector3d> flat;
       flat.reserve(lookup->size());
-      for (const auto& g : lookup->gaussians()) flat.emplace_back(g.mean.x(), g.mean.y(), 0.0);
+      lookup->forEachGaussian(
+          [&](const auto& g) { flat.emplace_back(g.mean.x(), g.mean.y(), 0.0); });
       m_means_xy = std::make_shared<const ndtom::PointKdTree>(flat);
     }
     tree = m_means_xy;

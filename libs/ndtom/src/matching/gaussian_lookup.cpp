@@ -1,6 +1,8 @@
 #include "ndtom/matching/gaussian_lookup.h"
 
 #include <algorithm>
+#include <iterator>
+#include <stdexcept>
 
 #include "ndtom/map/eigenvalue_floor.h"
 #include "ndtom/map/map_queries.h"
@@ -12,12 +14,15 @@ namespace {
 // collinear points) still needs an inverse, so eigenvalues never go below this (1 µm σ).
 constexpr double kMinEigenvalue = 1e-12;  // m²
 
-PreparedGaussian prepare(const Gaussian& g) {
+}  // namespace
+
+namespace {
+
+PreparedGaussian fromFloored(const Gaussian& g, const FlooredEigen& floored) {
   PreparedGaussian p;
   p.cell = g.cell;
   p.n = g.n;
   p.mean = g.mean;
-  const FlooredEigen floored = floorEigenvalues(g.covariance, kMinEigenvalue);
   const Eigen::Vector3d& lambda = floored.values;  // ascending
   const Eigen::Matrix3d& v = floored.vectors;
   p.covariance = floored.matrix();
@@ -29,85 +34,162 @@ PreparedGaussian prepare(const Gaussian& g) {
 
 }  // namespace
 
+PreparedGaussian prepared(const Gaussian& g) {
+  return fromFloored(g, floorEigenvalues(g.covariance, kMinEigenvalue));
+}
+
+PreparedGaussian prepared(const Gaussian& exact, const Regularization& reg) {
+  // Both floors at once: max(ratio·λ_max, abs) then 1e-12 is max(ratio·λ_max, abs, 1e-12).
+  return fromFloored(exact,
+                     floorEigenvalues(exact.covariance, std::max(reg.min_eigen_abs, kMinEigenvalue),
+                                      reg.min_eigen_ratio));
+}
+
 GaussianLookup::GaussianLookup(const NdtMap& map, const LookupOptions& options)
     : geometry_(map.geometry()) {
-  gaussians_.reserve(map.numGaussians());
+  std::vector<PreparedGaussian> gaussians;
+  gaussians.reserve(map.numGaussians());
   map.forEachCell([&](const CellView& c) {
     const bool wanted =
         options.occupied_only ? isOccupiedGaussian(map, c) : c.stats && c.stats->hasGaussian();
     if (!wanted) return;
-    gaussians_.push_back(prepare(map.gaussianOf(c, Covariance::Regularized)));
+    gaussians.push_back(
+        prepared(map.gaussianOf(c, Covariance::Exact), map.options().regularization));
   });
-  index(options.nearest_means);
+  index(std::move(gaussians), options.nearest_means);
 }
 
 GaussianLookup::GaussianLookup(const GridGeometry& geometry, const std::vector<Gaussian>& gaussians,
                                const LookupOptions& options)
     : geometry_(geometry) {
-  gaussians_.reserve(gaussians.size());
-  for (const Gaussian& g : gaussians) gaussians_.push_back(prepare(g));
-  index(options.nearest_means);
+  std::vector<PreparedGaussian> prepared_gaussians;
+  prepared_gaussians.reserve(gaussians.size());
+  for (const Gaussian& g : gaussians) prepared_gaussians.push_back(prepared(g));
+  index(std::move(prepared_gaussians), options.nearest_means);
 }
 
-void GaussianLookup::index(bool nearest_means) {
-  gaussians_.shrink_to_fit();  // a level's bytes are counted per Gaussian (MapPyramid)
-  std::sort(gaussians_.begin(), gaussians_.end(),
-            [](const PreparedGaussian& a, const PreparedGaussian& b) { return a.cell < b.cell; });
-  for (const PreparedGaussian& g : gaussians_) {
-    const uint32_t offset = offsetInBlock(g.cell);
-    by_cell_.getOrCreate(blockOf(g.cell)).occupied[offset >> 6] |= uint64_t(1) << (offset & 63);
+GaussianLookup::GaussianLookup(const GridGeometry& geometry,
+                               std::vector<PreparedGaussian> gaussians,
+                               const LookupOptions& options)
+    : geometry_(geometry) {
+  index(std::move(gaussians), options.nearest_means);
+}
+
+void GaussianLookup::IndexBlock::reindex() {
+  occupied.fill(0);
+  for (const PreparedGaussian& g : gaussians) {
+    const uint32_t offset = uint32_t(offsetInBlock(g.cell));
+    occupied[offset >> 6] |= uint64_t(1) << (offset & 63);
   }
-  uint32_t next = 0;  // each sparse block's share of slots_, in whatever order the hash keeps
-  for (auto& [key, block] : by_cell_.blocks()) {
-    uint32_t count = 0;
-    for (size_t w = 0; w < IndexBlock::kWords; ++w) {
-      block->before[w] = uint16_t(count);
-      count += popcount(block->occupied[w]);
-    }
-    if (count >= kDenseFrom) {
-      block->dense.assign(kBlockCells, kNone);
-    } else {
-      block->first = next;
-      next += count;
-    }
+  uint32_t count = 0;
+  for (size_t w = 0; w < kWords; ++w) {
+    before[w] = uint16_t(count);
+    count += popcount(occupied[w]);
   }
-  slots_.assign(next, kNone);
-  for (uint32_t i = 0; i < gaussians_.size(); ++i) {
-    const CellIndex& cell = gaussians_[i].cell;
-    IndexBlock& block = *by_cell_.find(blockOf(cell));
-    const uint32_t offset = offsetInBlock(cell);
-    if (!block.dense.empty()) {
-      block.dense[offset] = i;
-    } else {
-      const uint64_t bit = uint64_t(1) << (offset & 63);
-      slots_[block.first + block.before[offset >> 6] +
-             popcount(block.occupied[offset >> 6] & (bit - 1))] = i;
-    }
+}
+
+namespace {
+
+/// Block first, then offset in the block: the order of a block's Gaussians.
+bool blockOrder(const CellIndex& a, const CellIndex& b) {
+  const CellIndex block_a = blockOf(a), block_b = blockOf(b);
+  if (block_a != block_b) return block_a < block_b;
+  return offsetInBlock(a) < offsetInBlock(b);
+}
+
+}  // namespace
+
+void GaussianLookup::index(std::vector<PreparedGaussian> gaussians, bool nearest_means) {
+  // Sorted by key through an order of indices: moving 250-byte Gaussians while sorting
+  // would cost more than the sort.
+  std::vector<uint32_t> order(gaussians.size());
+  for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return blockOrder(gaussians[a].cell, gaussians[b].cell);
+  });
+  for (size_t k = 0; k < order.size();) {
+    const CellIndex key = blockOf(gaussians[order[k]].cell);
+    size_t end = k;
+    while (end < order.size() && blockOf(gaussians[order[end]].cell) == key) ++end;
+    IndexBlock& block = by_cell_.getOrCreate(key);
+    block.gaussians.reserve(end - k);
+    for (; k < end; ++k) block.gaussians.push_back(std::move(gaussians[order[k]]));
+    block.reindex();
   }
+  size_ = gaussians.size();
+  nearest_means_ = nearest_means;
   if (!nearest_means) return;
   std::vector<Eigen::Vector3d> means;
-  means.reserve(gaussians_.size());
-  for (const PreparedGaussian& g : gaussians_) means.push_back(g.mean);
+  means.reserve(size_);
+  mean_owners_.reserve(size_);
+  forEachGaussian([&](const PreparedGaussian& g) {
+    means.push_back(g.mean);
+    mean_owners_.push_back(&g);
+  });
   means_ = PointKdTree(means);
+}
+
+std::vector<std::pair<CellIndex, const GaussianLookup::IndexBlock*>> GaussianLookup::blocksInOrder()
+    const {
+  std::vector<std::pair<CellIndex, const IndexBlock*>> blocks;
+  blocks.reserve(by_cell_.size());
+  for (const auto& [key, block] : by_cell_.blocks()) blocks.emplace_back(key, block.get());
+  std::sort(blocks.begin(), blocks.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  return blocks;
+}
+
+void GaussianLookup::update(std::vector<CellChange> changes) {
+  if (nearest_means_)
+    throw std::logic_error("GaussianLookup::update: a lookup with a k-d tree cannot be updated");
+  const auto by_block = [](const CellChange& a, const CellChange& b) {
+    return blockOrder(a.cell, b.cell);
+  };
+  if (!std::is_sorted(changes.begin(), changes.end(), by_block))  // MapPyramid's come sorted
+    std::sort(changes.begin(), changes.end(), by_block);
+  std::vector<PreparedGaussian> merged;
+  for (size_t k = 0; k < changes.size();) {
+    const CellIndex key = blockOf(changes[k].cell);
+    IndexBlock* block = by_cell_.find(key);
+    // The block's Gaussians and the changes, both in offset order, merged.
+    merged.clear();
+    size_t old = 0;
+    const size_t old_count = block ? block->gaussians.size() : 0;
+    for (; k < changes.size() && blockOf(changes[k].cell) == key; ++k) {
+      const int offset = offsetInBlock(changes[k].cell);
+      while (old < old_count && offsetInBlock(block->gaussians[old].cell) < offset)
+        merged.push_back(std::move(block->gaussians[old++]));
+      if (old < old_count && offsetInBlock(block->gaussians[old].cell) == offset) ++old;
+      if (changes[k].gaussian) merged.push_back(std::move(*changes[k].gaussian));
+    }
+    while (old < old_count) merged.push_back(std::move(block->gaussians[old++]));
+    size_ = size_ - old_count + merged.size();
+    if (merged.empty()) {
+      if (block) by_cell_.erase(key);
+      continue;
+    }
+    if (!block) block = &by_cell_.getOrCreate(key);
+    block->gaussians.assign(std::make_move_iterator(merged.begin()),
+                            std::make_move_iterator(merged.end()));
+    block->reindex();
+  }
 }
 
 const PreparedGaussian* GaussianLookup::find(const CellIndex& cell) const {
   const IndexBlock* block = by_cell_.find(blockOf(cell));
-  if (!block) return nullptr;
-  const uint32_t i = block->gaussianAt(offsetInBlock(cell), slots_);
-  return i == kNone ? nullptr : &gaussians_[i];
+  return block ? block->gaussianAt(uint32_t(offsetInBlock(cell))) : nullptr;
 }
 
 size_t GaussianLookup::memoryBytes() const {
-  size_t dense = 0;
-  for (const auto& [key, block] : by_cell_.blocks()) dense += block->dense.capacity();
-  return gaussians_.capacity() * sizeof(PreparedGaussian) +
-         (slots_.capacity() + dense) * sizeof(uint32_t) + by_cell_.memoryBytes();
+  constexpr size_t kHeapBlockOverhead = 16;  // glibc's chunk header, per Gaussians array
+  size_t bytes = by_cell_.memoryBytes() + mean_owners_.capacity() * sizeof(void*);
+  for (const auto& [key, block] : by_cell_.blocks())
+    bytes += block->gaussians.capacity() * sizeof(PreparedGaussian) + kHeapBlockOverhead;
+  return bytes;
 }
 
 size_t GaussianLookup::maxBytesPerGaussian() {
-  return sizeof(PreparedGaussian) + sizeof(uint32_t) + BlockGrid<IndexBlock>::kBytesPerBlock +
-         kBlockCells * sizeof(uint32_t) / kDenseFrom;
+  return sizeof(PreparedGaussian) + BlockGrid<IndexBlock>::kBytesPerBlock + 16 + sizeof(void*);
 }
 
 const PreparedGaussian* GaussianLookup::findAt(const Eigen::Vector3d& point) const {

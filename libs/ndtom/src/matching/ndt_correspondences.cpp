@@ -65,7 +65,7 @@ CorrespondenceResult findCorrespondences(const GaussianLookup& lookup,
     double best_maha = std::numeric_limits<double>::infinity();
     uint32_t best_index = 0;
     for (const auto& c : candidates) {
-      const PreparedGaussian& g = lookup.gaussians()[c.index];
+      const PreparedGaussian& g = lookup.meanOwner(c.index);
       const double maha =
           options.planar ? squaredMahalanobisInPlane(g, p) : squaredMahalanobis(g, p);
       if (maha < best_maha) {  // candidates come nearest first: ties keep the nearer mean

@@ -1,13 +1,15 @@
 // The Gaussians of a map prepared for queries that run many times per scan (likelihood,
 // registration): regularised covariance inverted once, found by cell in O(1) and by nearest
-// mean through a k-d tree. An immutable snapshot: build it again after the map changes.
+// mean through a k-d tree. A snapshot of the map: build it again after the map changes, or
+// update() the cells that changed.
 //
-// Threading: every member is const after construction, so concurrent queries are safe.
+// Threading: const members are safe to call concurrently; update() is not.
 #pragma once
 
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <vector>
 
 #include "ndtom/map/block_grid.h"
@@ -40,6 +42,19 @@ struct LookupOptions {
   bool nearest_means = true;
 };
 
+/// The Gaussian `g` (covariance regularised already) prepared for queries: its covariance's
+/// eigenvalues floored at 1e-12 m² so it always has an inverse.
+PreparedGaussian prepared(const Gaussian& g);
+/// The same for a Gaussian with its exact covariance, regularised as `reg` says on the way:
+/// one eigen decomposition, not two (the pyramid makes one per coarse cell it redoes).
+PreparedGaussian prepared(const Gaussian& exact, const Regularization& reg);
+
+/// A cell's new Gaussian, or none (the cell loses it), for GaussianLookup::update().
+struct CellChange {
+  CellIndex cell;
+  std::optional<PreparedGaussian> gaussian;
+};
+
 class GaussianLookup {
  public:
   /// Every cell of `map` with a Gaussian (N ≥ 3), its covariance regularised as the map's
@@ -50,16 +65,32 @@ class GaussianLookup {
   /// `options.occupied_only` is the caller's to have applied.
   GaussianLookup(const GridGeometry& geometry, const std::vector<Gaussian>& gaussians,
                  const LookupOptions& options = {});
+  /// The same from Gaussians prepared already (prepared()), in any order.
+  GaussianLookup(const GridGeometry& geometry, std::vector<PreparedGaussian> gaussians,
+                 const LookupOptions& options = {});
+  // Moved, not copied: the k-d tree's owners point into the blocks.
+  GaussianLookup(GaussianLookup&&) noexcept = default;
+  GaussianLookup& operator=(GaussianLookup&&) noexcept = default;
+  GaussianLookup(const GaussianLookup&) = delete;
+  GaussianLookup& operator=(const GaussianLookup&) = delete;
 
   const GridGeometry& geometry() const { return geometry_; }
-  size_t size() const { return gaussians_.size(); }
-  bool empty() const { return gaussians_.empty(); }
-  /// In ascending cell order: deterministic whatever the map's insertion history.
-  const std::vector<PreparedGaussian>& gaussians() const { return gaussians_; }
+  size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  /// f(const PreparedGaussian&) for each Gaussian, block by block in ascending block order
+  /// and by offset in a block (offsetInBlock()): deterministic whatever the map's history.
+  template <class F>
+  void forEachGaussian(F&& f) const;
   /// Heap bytes of the Gaussians and their index (not the k-d tree).
   size_t memoryBytes() const;
   /// Most bytes one Gaussian can add to memoryBytes() (one block of its own), for budgets.
   static size_t maxBytesPerGaussian();
+
+  /// Sets or clears the Gaussians of the given cells (one change per cell), so that a level
+  /// follows a map that changed in a few places (MapPyramid) instead of being built again.
+  /// O(changes + the Gaussians of the blocks they touch). Throws std::logic_error for a
+  /// lookup with a k-d tree (LookupOptions::nearest_means), which would go stale.
+  void update(std::vector<CellChange> changes);
 
   /// The Gaussian of a cell; nullptr if the cell has none.
   const PreparedGaussian* find(const CellIndex& cell) const;
@@ -70,14 +101,12 @@ class GaussianLookup {
   template <class F>
   void forEachAround(const CellIndex& centre, F&& f) const;
 
-  /// k-d tree over the means; its indices are those of gaussians(). Empty unless built
-  /// (LookupOptions::nearest_means).
+  /// k-d tree over the means, in forEachGaussian()'s order; meanOwner(i) is the Gaussian of
+  /// its i-th point. Empty unless built (LookupOptions::nearest_means).
   const PointKdTree& means() const { return means_; }
+  const PreparedGaussian& meanOwner(uint32_t i) const { return *mean_owners_[i]; }
 
  private:
-  static constexpr uint32_t kNone = UINT32_MAX;
-  /// Sorts gaussians_ by cell and builds the cell index and, if asked, the k-d tree.
-  void index(bool nearest_means);
   /// Inline: without -mpopcnt (Debian's x86-64 baseline) the builtin is a call into libgcc.
   static uint32_t popcount(uint64_t x) {
 #ifdef __POPCNT__
@@ -89,33 +118,39 @@ class GaussianLookup {
     return uint32_t((x * 0x0101010101010101ULL) >> 56);
 #endif
   }
-  /// A block with this many Gaussians keeps an index per cell (2 KB, 64 bytes a Gaussian at
-  /// most): one load per lookup, as registration's inner loop wants.
-  static constexpr uint32_t kDenseFrom = 32;
-  /// The cells of one block with a Gaussian, a bit each. A sparser block finds a Gaussian
-  /// by the rank of its bit in slots_ (112 bytes a block, not 2 KB): a map of one Gaussian a
-  /// block, at every pyramid level, costs its Gaussians, not 2 KB each.
+  /// One block's Gaussians, in offset order, found by the rank of their cell's bit: a
+  /// block's Gaussians sit together (the 27 neighbours of a point usually share one block),
+  /// and a block can be rewritten alone when the map changes there.
   struct IndexBlock {
     static constexpr size_t kWords = kBlockCells / 64;
     std::array<uint64_t, kWords> occupied{};
     std::array<uint16_t, kWords> before{};  ///< cells with a Gaussian in the earlier words
-    uint32_t first = 0;                     ///< where its Gaussians start in slots_
-    std::vector<uint32_t> dense;            ///< index per cell, for kDenseFrom Gaussians on
-    /// The index in gaussians_ of the cell at `offset`, kNone if it has no Gaussian.
-    uint32_t gaussianAt(uint32_t offset, const std::vector<uint32_t>& slots) const {
-      if (!dense.empty()) return dense[offset];
+    std::vector<PreparedGaussian> gaussians;
+    const PreparedGaussian* gaussianAt(uint32_t offset) const {
       const uint64_t word = occupied[offset >> 6], bit = uint64_t(1) << (offset & 63);
-      if (!(word & bit)) return kNone;
-      return slots[first + before[offset >> 6] + popcount(word & (bit - 1))];
+      if (!(word & bit)) return nullptr;
+      return &gaussians[before[offset >> 6] + popcount(word & (bit - 1))];
     }
+    /// `occupied` and `before` from the cells of `gaussians`.
+    void reindex();
   };
+  /// Fills the blocks from Gaussians in any order and builds the k-d tree if asked.
+  void index(std::vector<PreparedGaussian> gaussians, bool nearest_means);
+  std::vector<std::pair<CellIndex, const IndexBlock*>> blocksInOrder() const;
 
   GridGeometry geometry_;
-  std::vector<PreparedGaussian> gaussians_;
+  size_t size_ = 0;
   BlockGrid<IndexBlock> by_cell_;  // blocks, not a hash per cell: neighbours share a block
-  std::vector<uint32_t> slots_;    // indices into gaussians_, sparse block by sparse block
+  bool nearest_means_ = false;
   PointKdTree means_;
+  std::vector<const PreparedGaussian*> mean_owners_;
 };
+
+template <class F>
+void GaussianLookup::forEachGaussian(F&& f) const {
+  for (const auto& [key, block] : blocksInOrder())
+    for (const PreparedGaussian& g : block->gaussians) f(g);
+}
 
 template <class F>
 void GaussianLookup::forEachAround(const CellIndex& centre, F&& f) const {
@@ -134,10 +169,8 @@ void GaussianLookup::forEachAround(const CellIndex& centre, F&& f) const {
         const int32_t z0 = std::max(lo.z, first.z), z1 = std::min(hi.z, first.z + kBlockEdge - 1);
         for (int32_t z = z0; z <= z1; ++z)
           for (int32_t y = y0; y <= y1; ++y)
-            for (int32_t x = x0; x <= x1; ++x) {
-              const uint32_t i = block->gaussianAt(offsetInBlock({x, y, z}), slots_);
-              if (i != kNone) f(gaussians_[i]);
-            }
+            for (int32_t x = x0; x <= x1; ++x)
+              if (const PreparedGaussian* g = block->gaussianAt(offsetInBlock({x, y, z}))) f(*g);
       }
 }
 

@@ -42,7 +42,7 @@ void validate(const CorrespondenceOptions& options);
 
 struct Correspondence {
   uint32_t point = 0;                                ///< index into the scan
-  uint32_t gaussian = 0;                             ///< index into GaussianLookup::gaussians()
+  uint32_t gaussian = 0;                             ///< GaussianLookup::meanOwner() of it
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< t, world frame (m)
   double squared_distance = 0;                       ///< |p − t|² (m²)
   double squared_mahalanobis = 0;                    ///< (p − μ)ᵀ Σ⁻¹ (p − μ)
