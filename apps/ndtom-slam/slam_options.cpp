@@ -44,16 +44,6 @@ const apps::OptionTable<SlamOptions>& optionTable() {
         [](O& o, const std::string& v) {
           o.online.target_refresh_distance = parseReal("--target-refresh", v);
         }}},
-      {"--target-refresh-angle",
-       {true,
-        [](O& o, const std::string& v) {
-          o.online.target_refresh_angle_deg = parseReal("--target-refresh-angle", v);
-        }}},
-      {"--target-refresh-scans",
-       {true,
-        [](O& o, const std::string& v) {
-          o.online.target_max_scans = int(parseInteger("--target-refresh-scans", v, 1, 1000000));
-        }}},
       {"--recovery-radius",
        {true, [](O& o, const std::string& v) { o.online.placement.recovery_radius = parseReal("--recovery-radius", v); }}},
       {"--recovery-yaw",
@@ -157,9 +147,8 @@ std::string helpText() {
        "  --min-matched-fraction F  verdict: matched part of what the map can judge (0.25)\n"
        "  --min-judged-fraction F   verdict: scan share where the map has looked (0.15)\n"
        "  --target-radius M         register against the map within M metres (50)\n"
-       "  --target-refresh M        cut that region again after M metres of travel (2) ...\n"
-       "  --target-refresh-angle D  ... or D degrees of turn (10) ...\n"
-       "  --target-refresh-scans N  ... or N scans (10; 1: every scan)\n"
+       "  --target-refresh M        move that region with the sensor every M metres (2; 0: every\n"
+       "                            scan); it follows the map at every scan\n"
        "  --recovery-radius M       when the verdict fails: search x, y within M metres (2)\n"
        "  --recovery-yaw DEG        ... and yaw within +-DEG of the prediction (60)\n"
        "  --ground-thinning K       one in K points on the scan's ground plane registers (100);\n"

@@ -303,8 +303,11 @@ TEST(Registration, PyramidLevelsHoldTheOccupiedGaussiansOfTheCoarsenedMap) {
         const GaussianLookup expected(coarse, {/*occupied_only=*/true, /*nearest_means=*/false});
         ASSERT_EQ(pyramid.level(l).size(), expected.size()) << occupancy << " " << l;
         ASSERT_GT(expected.size(), 10u);
+        std::vector<const PreparedGaussian*> got, want;
+        pyramid.level(l).forEachGaussian([&](const PreparedGaussian& g) { got.push_back(&g); });
+        expected.forEachGaussian([&](const PreparedGaussian& g) { want.push_back(&g); });
         for (size_t i = 0; i < expected.size(); ++i) {
-          const PreparedGaussian &a = pyramid.level(l).gaussians()[i], &b = expected.gaussians()[i];
+          const PreparedGaussian &a = *got[i], &b = *want[i];
           EXPECT_EQ(a.cell, b.cell);
           EXPECT_EQ(a.n, b.n);
           EXPECT_EQ(std::memcmp(a.mean.data(), b.mean.data(), sizeof(double) * 3), 0);

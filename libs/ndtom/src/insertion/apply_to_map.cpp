@@ -44,10 +44,21 @@ class MapUpdate {
   void createNewBlocks();
   void reserveHitStats();
   void splitWork(size_t hits, size_t cells_hit);
-  void applyFreeCounts(size_t begin, size_t end, ApplyBuffers::Part& part);
+  void applyFreeCounts(size_t begin, size_t end, ApplyBuffers::Part& part,
+                       std::vector<ApplyBuffers::EmptiedCell>& emptied);
   void applyHits(const HitBlock& hit_block, ApplyBuffers::HitTarget& target,
                  ApplyBuffers::Part& part);
   float clampLogOdds(double l) const { return ndtom::clampLogOdds(l, map_options_.occupancy); }
+  /// The update must not fail half-way: out of memory here, the record is marked incomplete
+  /// (whoever follows the map's changes then rebuilds) and the update goes on.
+  void recordEmptied(std::vector<ApplyBuffers::EmptiedCell>& emptied,
+                     const ApplyBuffers::EmptiedCell& cell) noexcept {
+    try {
+      emptied.push_back(cell);
+    } catch (...) {
+      b_.emptied_complete = false;
+    }
+  }
 
   const ScanContext& scan_;
   const MapOptions& map_options_;
@@ -90,13 +101,15 @@ MapChange MapUpdate::run(InsertionReport& report) {
   // Blocks differ in work, and each block's update stands alone: threads take small runs of
   // blocks as they go.
   const size_t blocks = counts_.tables[0].numBlocks();
+  for (auto& cells : b_.emptied) cells.clear();
+  b_.emptied_complete = true;
   constexpr size_t kBlocksPerTake = 16;
   std::atomic<size_t> next_block{0};
   scan_.pool.run(free_threads_, [&](size_t t) {
     for (;;) {
       const size_t begin = next_block.fetch_add(kBlocksPerTake, std::memory_order_relaxed);
       if (begin >= blocks) break;
-      applyFreeCounts(begin, std::min(blocks, begin + kBlocksPerTake), b_.parts[t]);
+      applyFreeCounts(begin, std::min(blocks, begin + kBlocksPerTake), b_.parts[t], b_.emptied[t]);
     }
   });
   collect(free_threads_);
@@ -222,13 +235,15 @@ void MapUpdate::splitWork(size_t hits, size_t cells_hit) {
                hit_blocks.begin());
   }
   free_threads_ = scan_.threadsFor(counts_.tables[0].numBlocks(), kMinBlocksPerThread);
+  if (b_.emptied.size() < free_threads_) b_.emptied.resize(free_threads_);
   const size_t parts = std::max(free_threads_, hit_threads_);
   if (b_.parts.size() < parts) b_.parts.resize(parts);
 }
 
 // Eq. 12 for the cells that rays crossed without a hit, in tables[0]'s blocks [begin, end):
 // the bulk of the update.
-void MapUpdate::applyFreeCounts(size_t begin, size_t end, ApplyBuffers::Part& part) {
+void MapUpdate::applyFreeCounts(size_t begin, size_t end, ApplyBuffers::Part& part,
+                                std::vector<ApplyBuffers::EmptiedCell>& emptied) {
   const double lo = map_options_.occupancy.logodds_min;
   const double hi = map_options_.occupancy.logodds_max;
   const double miss = map_options_.occupancy.missLogOdds();
@@ -262,7 +277,10 @@ void MapUpdate::applyFreeCounts(size_t begin, size_t end, ApplyBuffers::Part& pa
         if ((has >> (i & 63)) & 1) {
           const float logodds = clampLogOdds(double(block.logodds[i]) + double(n) * miss);
           block.logodds[i] = logodds;
-          if (logodds <= 0.f) part.gaussians_lost += block.eraseStats(i);  // observed empty
+          if (logodds <= 0.f) {  // observed empty
+            part.gaussians_lost += block.eraseStats(i);
+            recordEmptied(emptied, {merged.blockIndex(b), i});
+          }
           continue;
         }
         if (!block.known[i]) {

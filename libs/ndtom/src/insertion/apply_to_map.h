@@ -3,6 +3,7 @@
 // first cell changes, so it cannot fail half-way. Private to the library.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <vector>
 
@@ -36,6 +37,14 @@ struct ApplyBuffers {
     std::vector<CellStats> grown;
   };
   std::vector<HitTarget> hit_targets;
+  /// Per thread of the free update: cells its rays emptied of statistics.
+  struct EmptiedCell {
+    CellIndex block;
+    int offset;
+  };
+  std::vector<std::vector<EmptiedCell>> emptied;
+  /// False if recording them ran out of memory: the update itself goes on.
+  std::atomic<bool> emptied_complete{true};
   std::vector<size_t> hit_part_starts;  ///< hit_blocks ranges of the hit threads
 };
 

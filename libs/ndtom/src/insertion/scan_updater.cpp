@@ -21,7 +21,8 @@ ScanScratch& scratchOf(NdtMap& map) {
 }  // namespace
 
 ScanUpdater::ScanUpdater(NdtMap& map, const ScanOptions& options, const ScanPart* part)
-    : map_(map), options_(options), s_(scratchOf(map)), part_(part) {
+    : map_(map), options_(options), s_(scratchOf(map)), part_(part),
+      revision_before_(map.revision()) {
   MapInternals::touch(map_);
 }
 
@@ -64,6 +65,7 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
     const MapChange change = applyToMap(scan, map_.options(), s_.groups, s_.free_counts,
                                         MapInternals::grid(map_), s_.apply, report);
     MapInternals::countBlocks(map_, change.cells_created, change.stats_bytes);
+    recordStatsChanges();
   } catch (const MemoryBudgetError&) {
     for (ScanCounts& c : s_.free_counts.tables) c.releaseMemory();  // may hold the budget's worth
     throw;
@@ -72,6 +74,39 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
     throw;
   }
   return report;
+}
+
+void ScanUpdater::recordStatsChanges() noexcept {
+  StatsChanges& changes = MapInternals::statsChanges(map_);
+  try {
+    std::vector<BlockCells>& blocks = changes.blocks;
+    blocks.clear();
+    for (const HitBlock& h : s_.groups.hit_blocks)
+      blocks.push_back({blockOf(s_.groups.blockCell(h)), h.hits});
+    for (const auto& cells : s_.apply.emptied)
+      for (const ApplyBuffers::EmptiedCell& c : cells) {
+        BlockCells emptied{c.block, {}};
+        emptied.cells[size_t(c.offset >> 6)] = uint64_t(1) << (c.offset & 63);
+        blocks.push_back(emptied);
+      }
+    std::sort(blocks.begin(), blocks.end(),
+              [](const BlockCells& a, const BlockCells& b) { return a.block < b.block; });
+    size_t kept = 0;  // one entry a block
+    for (size_t k = 0; k < blocks.size(); ++k) {
+      if (kept > 0 && blocks[kept - 1].block == blocks[k].block) {
+        for (size_t w = 0; w < blocks[k].cells.size(); ++w)
+          blocks[kept - 1].cells[w] |= blocks[k].cells[w];
+      } else {
+        blocks[kept++] = blocks[k];
+      }
+    }
+    blocks.resize(kept);
+    if (!s_.apply.emptied_complete) return;  // left unknown
+    changes.from = revision_before_;
+    changes.to = map_.revision();
+  } catch (...) {  // out of memory: left unknown, followers rebuild
+    changes.from = changes.to = 0;
+  }
 }
 
 void ScanUpdater::tellOthersOfFailure() noexcept {

@@ -59,6 +59,8 @@ class ScanUpdater {
   /// Before tracing: the blocks of the hits (a lower bound of the blocks the scan adds) and
   /// their statistics; then limits the tracing tables to the blocks the budget leaves.
   void checkBudgetForEnds(const InsertionReport& report);
+  /// After a successful update: the cells it may have changed (NdtMap::lastStatsChanges()).
+  void recordStatsChanges() noexcept;
   /// traceFreeRays, throwing MemoryBudgetError if its tables would pass the budget.
   void traceFreeRaysInBudget(const ScanContext& scan, InsertionReport& report);
 
@@ -66,6 +68,7 @@ class ScanUpdater {
   const ScanOptions& options_;
   ScanScratch& s_;
   const ScanPart* part_;
+  uint64_t revision_before_;  ///< the map's, before this scan
   uint64_t budget_used_ = 0;             ///< map + this scan's buffers, as estimated so far (bytes)
   std::atomic<int64_t> blocks_left_{0};  ///< new blocks tracing may add (memory budget)
 };

@@ -22,6 +22,7 @@ struct MapInternals {
   }
   static size_t statsBytes(const NdtMap& map) { return map.stats_bytes_; }
   static void touch(NdtMap& map) { map.touch(); }
+  static StatsChanges& statsChanges(NdtMap& map) { return map.stats_changes_; }
   static std::unique_ptr<ScanScratch, ScanScratchDeleter>& scratch(NdtMap& map) {
     return map.scratch_;
   }

@@ -46,6 +46,8 @@ NdtMap::NdtMap(const MapOptions& options) : options_(options), geometry_(options
 void NdtMap::touch() {
   static std::atomic<uint64_t> last_revision{0};
   revision_ = last_revision.fetch_add(1, std::memory_order_relaxed) + 1;
+  stats_changes_.from = stats_changes_.to = 0;  // unknown, unless an insertion sets them
+  stats_changes_.blocks.clear();
 }
 
 // A copy's statistics arrays hold no spare room: their bytes are counted again.

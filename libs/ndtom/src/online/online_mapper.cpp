@@ -18,10 +18,6 @@ void validate(const OnlineMapperOptions& o) {
     failOption("target_radius", o.target_radius, "must be finite and > 0");
   if (!(o.target_refresh_distance >= 0 && std::isfinite(o.target_refresh_distance)))
     failOption("target_refresh_distance", o.target_refresh_distance, "must be finite and >= 0");
-  if (!(o.target_refresh_angle_deg >= 0 && o.target_refresh_angle_deg <= 180))
-    failOption("target_refresh_angle_deg", o.target_refresh_angle_deg, "must be in [0, 180]");
-  if (!(o.target_max_scans >= 1))
-    failOption("target_max_scans", o.target_max_scans, "must be >= 1");
   if (!(o.threads >= 1 && o.threads <= ScanOptions::kMaxThreads))
     failOption("threads", o.threads, "must be in [1, 256]");
 }
@@ -118,7 +114,8 @@ OnlineStep OnlineMapper::locate(const std::vector<Eigen::Vector3d>& points, doub
   }
   step.prediction = odometry ? t.motion.lastPose() * *odometry : t.motion.predict(time);
   const auto cut = Clock::now();
-  if (t.target.update(map_, step.prediction, options_)) step.target_seconds = secondsSince(cut);
+  t.target.update(map_, step.prediction, options_);
+  step.target_seconds = secondsSince(cut);
   // Registered against the target's pyramid, judged against the map as it is.
   t.placer.registration().pinPyramid(t.target.pyramid(), map_.revision());
   Placement placed = t.placer.place(map_, points, step.prediction, t.motion.lastPose());

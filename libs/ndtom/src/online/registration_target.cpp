@@ -3,8 +3,6 @@
 #include <cmath>
 
 #include "ndtom/map/block_grid.h"
-#include "ndtom/online/region_refresh.h"
-#include "ndtom/scale/block_moves.h"
 
 namespace ndtom::online {
 namespace {
@@ -20,25 +18,27 @@ double distanceToBlock(const Eigen::Vector3d& p, const CellIndex& b, double bloc
   return std::sqrt(squared);
 }
 
+MapPyramid::BlockFilter regionAround(const Eigen::Vector3d& centre, double radius,
+                                     double block_edge) {
+  return [=](const CellIndex& b) { return distanceToBlock(centre, b, block_edge) <= radius; };
+}
+
 }  // namespace
 
-bool RegistrationTarget::update(const NdtMap& map, const Eigen::Isometry3d& sensor,
+void RegistrationTarget::update(const NdtMap& map, const Eigen::Isometry3d& sensor,
                                 const OnlineMapperOptions& o) {
-  ++scans_since_cut_;
-  if (cut_from_revision_ == map.revision()) return false;  // nothing new to cut
-  const RegionRefresh refresh{o.target_refresh_distance, o.target_refresh_angle_deg,
-                              o.target_max_scans};
-  if (cut_from_revision_ != 0 && !refresh.due(cut_at_, sensor, scans_since_cut_)) return false;
   const double block_edge = kBlockEdge * map.options().resolution;
   const Eigen::Vector3d centre = sensor.translation();
-  const NdtMap region = copyBlocks(map, [&](const CellIndex& b) {
-    return distanceToBlock(centre, b, block_edge) <= o.target_radius;
-  }, /*statistics_only=*/true);
-  pyramid_ = std::make_shared<const MapPyramid>(region, o.placement.registration.level_factors, o.threads);
-  cut_from_revision_ = map.revision();
-  cut_at_ = sensor;
-  scans_since_cut_ = 0;
-  return true;
+  if (pyramid_ && pyramid_->follow(map)) {
+    if ((centre - region_centre_).norm() >= o.target_refresh_distance) {
+      pyramid_->setMembers(map, regionAround(centre, o.target_radius, block_edge));
+      region_centre_ = centre;
+    }
+    return;
+  }
+  pyramid_ = std::make_shared<MapPyramid>(map, o.placement.registration.level_factors, o.threads,
+                                          regionAround(centre, o.target_radius, block_edge));
+  region_centre_ = centre;
 }
 
 }  // namespace ndtom::online

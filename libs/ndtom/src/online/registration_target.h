@@ -1,10 +1,10 @@
-// What an online mapper registers against: the pyramid of the map's region around the sensor,
-// cut again as the sensor moves on. It stays valid while the map grows (no rebuild at every
-// insertion unless asked), and its cost is bounded by the region, not by the whole map.
+// What an online mapper registers against: the pyramid of the map's region around the sensor.
+// It follows the map scan by scan (only the coarse cells over what the last insertion changed
+// are redone) and its region moves with the sensor, so its cost is bounded by what changed,
+// not by the region or the whole map.
 #pragma once
 
 #include <Eigen/Geometry>
-#include <cstdint>
 #include <memory>
 
 #include "ndtom/map/ndt_map.h"
@@ -15,17 +15,18 @@ namespace ndtom::online {
 
 class RegistrationTarget {
  public:
-  /// The region of `map` around `sensor`, cut again if the policy of `options` says the one
-  /// held is stale. Returns whether it was cut.
-  bool update(const NdtMap& map, const Eigen::Isometry3d& sensor, const OnlineMapperOptions& options);
+  /// Brings the pyramid to `map` as it is now, its region moved around `sensor` once the
+  /// sensor is `options.target_refresh_distance` from where the region was last centred.
+  /// Builds it anew only the first time, or when the map changed other than by one
+  /// insertion since the last call.
+  void update(const NdtMap& map, const Eigen::Isometry3d& sensor,
+              const OnlineMapperOptions& options);
   /// Null before the first update().
-  const std::shared_ptr<const MapPyramid>& pyramid() const { return pyramid_; }
+  std::shared_ptr<const MapPyramid> pyramid() const { return pyramid_; }
 
  private:
-  std::shared_ptr<const MapPyramid> pyramid_;
-  uint64_t cut_from_revision_ = 0;  ///< of the map it was cut from; 0: never cut
-  Eigen::Isometry3d cut_at_ = Eigen::Isometry3d::Identity();
-  int scans_since_cut_ = 0;
+  std::shared_ptr<MapPyramid> pyramid_;
+  Eigen::Vector3d region_centre_ = Eigen::Vector3d::Zero();
 };
 
 }  // namespace ndtom::online

@@ -2,18 +2,26 @@
 
 #include <algorithm>
 #include <atomic>
-#include <exception>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
+#include "map/map_internals.h"
 #include "ndtom/map/memory_budget.h"
-#include "registration/coarse_gaussians.h"
+#include "registration/coarse_cells.h"
+#include "support/parallel.h"
 
 namespace ndtom {
 
-MapPyramid::MapPyramid(const NdtMap& map, const std::vector<int>& factors, int threads)
-    : factors_(factors), revision_(map.revision()) {
+using registration::CoarseCells;
+
+struct MapPyramid::Work {
+  size_t threads = 1;
+  WorkerPool pool;
+};
+
+namespace {
+
+void checkFactors(const std::vector<int>& factors) {
   if (factors.empty()) throw std::invalid_argument("level factors: none given");
   for (size_t i = 0; i < factors.size(); ++i) {
     if (factors[i] < 1 || factors[i] > 1024)
@@ -22,45 +30,129 @@ MapPyramid::MapPyramid(const NdtMap& map, const std::vector<int>& factors, int t
     if (i > 0 && factors[i] >= factors[i - 1])
       throw std::invalid_argument("level factors: must be given coarse to fine, decreasing");
   }
+}
+
+std::string levelNames(const std::vector<int>& factors) {
+  std::string names;
+  for (const int f : factors) names += (names.empty() ? "x" : " x") + std::to_string(f);
+  return names;
+}
+
+}  // namespace
+
+MapPyramid::MapPyramid(const NdtMap& map, const std::vector<int>& factors, int threads,
+                       BlockFilter members)
+    : factors_(factors),
+      revision_(map.revision()),
+      members_(std::move(members)),
+      work_(std::make_unique<Work>()) {
+  checkFactors(factors);
+  work_->threads = size_t(std::max(threads, 1));
   // Coarse levels from the cells with statistics only: the coarse map's free cells, most of
-  // its cells, are never needed here. The levels share what the map's memory budget leaves:
-  // a sparse map (a Gaussian a block) has levels as large as itself.
-  const LookupOptions options{/*occupied_only=*/true, /*nearest_means=*/false};
-  const uint64_t budget = map.options().scan.memory_budget;
-  std::atomic<uint64_t> used{map.memoryBytes()};
-  levels_.resize(factors.size());
-  std::vector<std::exception_ptr> failures(factors.size());
-  const auto buildLevel = [&](size_t l) {
-    const int f = factors[l];
-    std::vector<Gaussian> coarse;
-    if (f != 1) coarse = registration::occupiedCoarseGaussians(map, f);
-    const size_t count = f == 1 ? map.numGaussians() : coarse.size();
-    const uint64_t need = used += count * GaussianLookup::maxBytesPerGaussian();
-    if (need > budget)
-      throw MemoryBudgetError("the registration pyramid (level x" + std::to_string(f) + ", " +
-                                  std::to_string(count) + " Gaussians, beside the map)",
-                              need, budget);
-    levels_[l] = std::make_unique<const GaussianLookup>(
-        f == 1 ? GaussianLookup(map, options)
-               : GaussianLookup(GridGeometry(map.options().resolution * f), coarse, options));
+  // its cells, are never needed here.
+  std::vector<std::vector<CellIndex>> cells(factors.size());
+  work_->pool.run(std::min(work_->threads, factors.size()), [&](size_t t) {
+    for (size_t l = t; l < factors.size(); l += std::min(work_->threads, factors.size()))
+      cells[l] = CoarseCells(map, factors[l], members_).allCells();
+  });
+  redo(map, cells, /*build=*/true, members_);
+}
+
+MapPyramid::~MapPyramid() = default;
+
+size_t MapPyramid::memoryBytes() const {
+  size_t bytes = 0;
+  for (const auto& level : levels_) bytes += level->memoryBytes();
+  return bytes;
+}
+
+bool MapPyramid::follow(const NdtMap& map) {
+  if (map.revision() == revision_) return true;
+  const StatsChanges& changes = map.lastStatsChanges();
+  if (changes.from == 0 || changes.from != revision_ || changes.to != map.revision()) return false;
+  std::vector<std::vector<CellIndex>> cells(factors_.size());
+  for (size_t l = 0; l < factors_.size(); ++l)
+    cells[l] = CoarseCells(map, factors_[l], members_).cellsOver(changes.blocks, true);
+  redo(map, cells, /*build=*/false, members_);
+  revision_ = map.revision();
+  return true;
+}
+
+void MapPyramid::setMembers(const NdtMap& map, BlockFilter members) {
+  if (map.revision() != revision_)
+    throw std::logic_error("MapPyramid::setMembers: the pyramid is not at the map's revision");
+  const auto admits = [](const BlockFilter& filter, const CellIndex& block) {
+    return !filter || filter(block);
   };
-  const auto build = [&](size_t l) {  // on a helper thread an exception would terminate
-    try {
-      buildLevel(l);
-    } catch (...) {
-      failures[l] = std::current_exception();
+  std::vector<BlockCells> moved;  // blocks that join or leave, all their cells
+  for (const auto& [key, block] : MapInternals::grid(map).blocks())
+    if (!block->stats.empty() && admits(members_, key) != admits(members, key))
+      moved.push_back({key, block->has_stats});
+  std::vector<std::vector<CellIndex>> cells(factors_.size());
+  for (size_t l = 0; l < factors_.size(); ++l)
+    cells[l] = CoarseCells(map, factors_[l], members).cellsOver(moved, false);
+  redo(map, cells, /*build=*/false, members);
+  members_ = std::move(members);
+}
+
+void MapPyramid::redo(const NdtMap& map, const std::vector<std::vector<CellIndex>>& cells,
+                      bool build, const BlockFilter& members) {
+  // Every (level, cell) on its own: threads take runs of them as they go.
+  std::vector<CoarseCells> coarse;
+  std::vector<std::vector<CellChange>> changes(factors_.size());
+  std::vector<size_t> starts{0};
+  for (size_t l = 0; l < factors_.size(); ++l) {
+    coarse.emplace_back(map, factors_[l], members);
+    changes[l].resize(cells[l].size());
+    starts.push_back(starts.back() + cells[l].size());
+  }
+  constexpr size_t kCellsPerTake = 256;
+  std::atomic<size_t> next{0};
+  std::atomic<size_t> gaussians{0};
+  const size_t total = starts.back();
+  work_->pool.run(std::min(work_->threads, total / kCellsPerTake + 1), [&](size_t) {
+    size_t found = 0;
+    for (;;) {
+      const size_t begin = next.fetch_add(kCellsPerTake, std::memory_order_relaxed);
+      if (begin >= total) break;
+      for (size_t k = begin; k < std::min(total, begin + kCellsPerTake); ++k) {
+        const size_t l =
+            size_t(std::upper_bound(starts.begin(), starts.end(), k) - starts.begin()) - 1;
+        CellChange& change = changes[l][k - starts[l]];
+        change.cell = cells[l][k - starts[l]];
+        change.gaussian = coarse[l].gaussian(change.cell);
+        found += change.gaussian.has_value();
+      }
     }
-  };
-  std::vector<std::thread> helpers;
-  const size_t workers = std::min(factors.size(), size_t(std::max(threads, 1)));
-  for (size_t t = 1; t < workers; ++t)
-    helpers.emplace_back([&, t] {
-      for (size_t l = t; l < factors.size(); l += workers) build(l);
-    });
-  for (size_t l = 0; l < factors.size(); l += workers) build(l);
-  for (std::thread& h : helpers) h.join();
-  for (const std::exception_ptr& failure : failures)
-    if (failure) std::rethrow_exception(failure);
+    gaussians += found;
+  });
+  // The levels share what the map's memory budget leaves: a sparse map (a Gaussian a
+  // block) has levels as large as itself. The Gaussians redone are held beside the levels
+  // until they replace them, so they count whole.
+  const uint64_t budget = map.options().scan.memory_budget;
+  const uint64_t need = map.memoryBytes() + (build ? 0 : memoryBytes()) +
+                        gaussians.load() * GaussianLookup::maxBytesPerGaussian();
+  if (need > budget)
+    throw MemoryBudgetError("the registration pyramid (levels " + levelNames(factors_) + ", " +
+                                std::to_string(gaussians.load()) + " Gaussians, beside the map)",
+                            need, budget);
+  if (build) levels_.resize(factors_.size());
+  work_->pool.run(std::min(work_->threads, factors_.size()), [&](size_t t) {
+    for (size_t l = t; l < factors_.size(); l += std::min(work_->threads, factors_.size())) {
+      if (!build) {
+        levels_[l]->update(std::move(changes[l]));
+        continue;
+      }
+      std::vector<PreparedGaussian> level;
+      level.reserve(changes[l].size());
+      for (CellChange& c : changes[l])
+        if (c.gaussian) level.push_back(std::move(*c.gaussian));
+      std::vector<CellChange>().swap(changes[l]);
+      const LookupOptions options{/*occupied_only=*/true, /*nearest_means=*/false};
+      levels_[l] =
+          std::make_unique<GaussianLookup>(coarse[l].geometry(), std::move(level), options);
+    }
+  });
 }
 
 }  // namespace ndtom

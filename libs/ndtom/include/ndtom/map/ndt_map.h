@@ -20,6 +20,7 @@
 #include "ndtom/map/gaussian.h"
 #include "ndtom/map/insertion_report.h"
 #include "ndtom/map/options.h"
+#include "ndtom/map/stats_changes.h"
 
 namespace ndtom {
 
@@ -114,6 +115,9 @@ class NdtMap {
   /// unique across maps, and shared by copies. Caches derived from a map (the registration
   /// pyramid) compare it to know when to rebuild.
   uint64_t revision() const { return revision_; }
+  /// The cells the last insertScan() may have changed, between two revisions (from == 0
+  /// after any other change, or a failed insertion). Not copied with the map.
+  const StatsChanges& lastStatsChanges() const { return stats_changes_; }
 
   // --- Map algebra ------------------------------------------------------------------------
 
@@ -176,6 +180,7 @@ class NdtMap {
   size_t num_cells_ = 0;
   size_t stats_bytes_ = 0;  ///< statsBytes() summed over the blocks
   uint64_t revision_ = 0;
+  StatsChanges stats_changes_;
   /// Insertion's buffers and threads, made on first use: not part of the map's value, never
   /// copied.
   std::unique_ptr<ScanScratch, ScanScratchDeleter> scratch_;

@@ -44,17 +44,15 @@ struct OnlineMapperOptions {
     p.recovery_radius = 2.0;
     return p;
   }();
-  /// The registration target: the map's blocks within this distance (m) of the predicted
-  /// sensor position (Default: 50 m: a lidar's map reaches 30-40 m around it).
+  /// The registration target: the pyramid of the map's blocks within this distance (m) of
+  /// the predicted sensor position (Default: 50 m: a lidar's map reaches 30-40 m around it).
+  /// It follows the map at every scan, redoing only the coarse cells over what the last scan
+  /// changed.
   double target_radius = 50;
-  /// The target is cut again from the map after the sensor moved this far (m) or turned
-  /// this much (degrees) since it was last cut, or after `target_max_scans` scans (Default:
-  /// 2 m, 10°, 10 scans; 0 m and 0° turn those tests off, 1 scan cuts it every scan). Cutting
-  /// costs most of a scan's time on a city drive (68 of 120 ms at every scan, 10 Hz); every 2 m
-  /// the drive runs at 13 scans/s with the same accuracy (doc/slam.md).
+  /// The target's region is moved to the sensor once it is this far (m) from the region's
+  /// centre (Default: 2 m; 0: every scan). Moving it looks at every block of the map to find
+  /// those that join or leave.
   double target_refresh_distance = 2;
-  double target_refresh_angle_deg = 10;
-  int target_max_scans = 10;
   /// Threads of registration and insertion (this, not placement.registration.threads); the
   /// result is the same for any count (Default: 1).
   int threads = 1;
@@ -80,7 +78,7 @@ struct OnlineStep {
   int weak_directions = 0;          ///< translation directions that kept the prediction
   bool inserted = false;
   InsertionReport insertion;
-  double target_seconds = 0;    ///< cutting the registration target (0 when kept)
+  double target_seconds = 0;    ///< bringing the registration target up to the map
   double locate_seconds = 0;    ///< registration, retries and search
   double insert_seconds = 0;
 };

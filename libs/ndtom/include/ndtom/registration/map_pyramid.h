@@ -1,10 +1,13 @@
 // A map's exact coarsenings (paper Sec. III-B) prepared as registration targets, coarse to
-// fine: each level keeps only the Gaussians of occupied cells, looked up by cell.
+// fine: each level keeps only the Gaussians of occupied cells, looked up by cell. A pyramid
+// can follow a map that grows scan by scan (an online mapper's): it redoes only the coarse
+// cells over the cells an insertion changed, with the same bits as a new pyramid.
 //
-// Threading: immutable after construction; concurrent reads are safe.
+// Threading: const members are safe to call concurrently; follow() and setMembers() are not.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -15,11 +18,18 @@ namespace ndtom {
 
 class MapPyramid {
  public:
+  /// Which of the map's blocks (blockOf() coordinates) the levels are made of, e.g. those
+  /// near a sensor; an empty filter admits all.
+  using BlockFilter = std::function<bool(const CellIndex& block)>;
+
   /// Levels `factors` times coarser than `map` (each ≥ 1, given coarse to fine, e.g.
-  /// {16, 8, 4, 2, 1}), built on up to `threads` threads (one per level; the same levels for
-  /// any count); throws std::invalid_argument for a bad list, and MemoryBudgetError when
-  /// the levels with the map would pass the map's memory budget (ScanOptions::memory_budget).
-  MapPyramid(const NdtMap& map, const std::vector<int>& factors, int threads = 1);
+  /// {16, 8, 4, 2, 1}) of the blocks `members` admits, built on up to `threads` threads (the
+  /// same levels for any count); throws std::invalid_argument for a bad list, and
+  /// MemoryBudgetError when the levels with the map would pass the map's memory budget
+  /// (ScanOptions::memory_budget).
+  MapPyramid(const NdtMap& map, const std::vector<int>& factors, int threads = 1,
+             BlockFilter members = {});
+  ~MapPyramid();
 
   size_t size() const { return levels_.size(); }
   int factor(size_t level) const { return factors_[level]; }
@@ -28,11 +38,33 @@ class MapPyramid {
   /// NdtMap::revision() of the map the levels come from.
   uint64_t revision() const { return revision_; }
   const std::vector<int>& factors() const { return factors_; }
+  /// Heap bytes of the levels.
+  size_t memoryBytes() const;
+
+  /// Brings the levels to `map`'s revision from its last insertion's changes
+  /// (NdtMap::lastStatsChanges()): the same levels as a new pyramid of the map, for the cost
+  /// of the coarse cells over the changed cells. Returns false, changing nothing, when the
+  /// changes do not start at revision() (the map changed otherwise, or more than once since):
+  /// build a new pyramid then. Throws MemoryBudgetError, changing nothing, as the constructor.
+  bool follow(const NdtMap& map);
+  /// Makes the levels those of the blocks `members` admits (`map` at revision(), else
+  /// std::logic_error), redoing the coarse cells over the blocks that joined or left: a
+  /// region that moves with a sensor. O(the map's blocks) to find them. Throws
+  /// MemoryBudgetError, changing nothing, as the constructor.
+  void setMembers(const NdtMap& map, BlockFilter members);
 
  private:
+  struct Work;  // threads of the build and of the updates
+  /// Each level's coarse cells in `cells[l]` computed again from the blocks `members` admits
+  /// and put in (or out of) the level; `build`: into new levels. Changes nothing if it throws.
+  void redo(const NdtMap& map, const std::vector<std::vector<CellIndex>>& cells, bool build,
+            const BlockFilter& members);
+
   std::vector<int> factors_;
-  std::vector<std::unique_ptr<const GaussianLookup>> levels_;
+  std::vector<std::unique_ptr<GaussianLookup>> levels_;
   uint64_t revision_;
+  BlockFilter members_;
+  std::unique_ptr<Work> work_;
 };
 
 }  // namespace ndtom
