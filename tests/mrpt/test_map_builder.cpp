@@ -352,6 +352,11 @@ TEST(MapBuilder, StartsAtX0) {
   EXPECT_EQ(builder.getCurrentPoseEstimation()->getMeanVal(),
             CPose3D(mrpt::poses::CPose2D(1, 2, 0.5)))
       << "the first scan is placed at x0";
+  mrpt::maps::CSimpleMap one;
+  builder.getCurrentlyBuiltMap(one);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_THROW(builder.initialize(one, &x0), std::exception) << "x0 with an initial map";
+  EXPECT_EQ(builder.getCurrentlyBuiltMapSize(), 1u) << "unchanged by the refusal";
 }
 
 TEST(MapBuilder, InitializeRefusesBadOptionsNamingThem) {

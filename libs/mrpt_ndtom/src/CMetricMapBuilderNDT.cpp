@@ -22,7 +22,11 @@ CMetricMapBuilderNDT::~CMetricMapBuilderNDT() = default;
 void CMetricMapBuilderNDT::initialize(const mrpt::maps::CSimpleMap& initialMap,
                                       const mrpt::poses::CPosePDF* x0) {
   std::lock_guard<std::mutex> lock(m_lock);
-  // The first scan goes where the initial map's last frame is, unless x0 says otherwise.
+  // The mapper goes on from the last pose it inserted: with a map, from its last frame.
+  if (x0 && !initialMap.empty())
+    THROW_EXCEPTION(
+        "CMetricMapBuilderNDT::initialize: x0 with an initial map is not supported (the robot "
+        "goes on from the map's last frame)");
   mrpt::poses::CPose3D first_pose;
   if (!initialMap.empty()) initialMap.getAsPair(initialMap.size() - 1).pose->getMean(first_pose);
   if (x0) first_pose = mrpt::poses::CPose3D(x0->getMeanVal());

@@ -50,7 +50,11 @@ void CMetricMapBuilderNDT::saveCurrentEstimationToImage(const std::string& file,
   const TopView view = fit(box, map.options().resolution);
   mrpt::img::CImage image(unsigned(view.width()), unsigned(view.height()), mrpt::img::CH_RGB);
   image.filledRectangle(0, 0, view.width() - 1, view.height() - 1, mrpt::img::TColor::white());
-  for (const Eigen::Vector2d& c : cells) image.setPixel(view.col(c.x()), view.row(c.y()), 0x000000);
+  // Each Gaussian a square of its cell's size (at least a pixel).
+  const int dot = std::max(1, int(std::lround(view.scale * map.options().resolution))) - 1;
+  for (const Eigen::Vector2d& c : cells)
+    image.filledRectangle(view.col(c.x()), view.row(c.y()), view.col(c.x()) + dot,
+                          view.row(c.y()) + dot, mrpt::img::TColor::black());
   for (size_t i = 1; i < m_steps.size(); ++i) {
     const mrpt::poses::CPose3D& a = m_steps[i - 1].pose;
     const mrpt::poses::CPose3D& b = m_steps[i].pose;

@@ -74,8 +74,9 @@ class CMetricMapBuilderNDT : public mrpt::slam::CMetricMapBuilder {
   ~CMetricMapBuilderNDT() override;
 
   /// Starts over with NDT_options: the frames of `initialMap` inserted at their poses (not
-  /// registered), the robot at `x0` (else at the last frame's pose, else at the origin).
-  /// Throws (naming the option) if NDT_options are invalid.
+  /// registered; later observations must not be older), the robot at its last frame's pose,
+  /// or at `x0` when there is no initial map, else at the origin. Throws (naming the option)
+  /// if NDT_options are invalid, and for x0 with an initial map.
   void initialize(const mrpt::maps::CSimpleMap& initialMap = mrpt::maps::CSimpleMap(),
                   const mrpt::poses::CPosePDF* x0 = nullptr) override;
 
@@ -97,9 +98,9 @@ class CMetricMapBuilderNDT : public mrpt::slam::CMetricMapBuilder {
   /// mapper when it changed since the last call; valid until the next change.
   const mrpt::maps::CMultiMetricMap* getCurrentlyBuiltMetricMap() const override;
 
-  /// A top view of the map's occupied Gaussians and the robot's path, 2 pixels per cell
-  /// edge at most 4000 pixels wide; the format follows the file's extension (.png, .bmp,
-  /// ...), whatever `formatEMF_BMP` says (EMF is Windows-only).
+  /// A top view of the map's occupied Gaussians (black) and the robot's path (red), 2 pixels
+  /// per cell edge, at most 4000 pixels a side; the format follows the file's extension (.png,
+  /// .bmp, ...), whatever `formatEMF_BMP` says (EMF is Windows-only).
   void saveCurrentEstimationToImage(const std::string& file, bool formatEMF_BMP = true) override;
 
   /// One per scan or cloud processed since initialize(): the robot's pose and how it was found.
