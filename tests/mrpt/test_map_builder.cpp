@@ -7,9 +7,11 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/slam/CMetricMapBuilderICP.h>
 #include <unistd.h>
@@ -20,6 +22,7 @@
 #include <iostream>
 #include <optional>
 
+#include "balm_scans.h"
 #include "mrpt_ndtom/CMetricMapBuilderNDT.h"
 #include "ndtom/map/map_queries.h"
 #include "sena_log.h"
@@ -326,6 +329,54 @@ TEST_F(MapBuilderOnSena, SavesATopViewOfTheMapAndThePath) {
   EXPECT_THROW(builder_->saveCurrentEstimationToImage((dir / "no" / "such.png").string()),
                std::exception);
   std::filesystem::remove_all(dir);
+}
+
+TEST(MapBuilder, MapsLidarScansIn3DWithOdometryFromActions) {
+  // The shipped BALM lidar scans as if the sensor had moved 0.6 m and 6° more at each scan
+  // (scan i's points M_i⁻¹·p), the truth P_0⁻¹·P_i·M_i; the actions carry the true motion
+  // with 5 cm and 2° of error, in all six degrees of freedom.
+  constexpr int kScans = 6;
+  const auto poses = ndtom::testing::balmPoses();
+  CMetricMapBuilderNDT builder;
+  builder.NDT_options.mapOptions.resolution = 0.2;
+  builder.NDT_options.mapOptions.scan.max_range = 30;
+  builder.initialize();
+  CPose3D motion, previous_truth;
+  for (int i = 0; i < kScans; ++i) {
+    if (i > 0) motion = motion + CPose3D(0.6, 0, 0, mrpt::DEG2RAD(6.0), 0, 0);
+    const CPose3D truth = (poses[size_t(i)] - poses[0]) + motion;
+    auto cloud = mrpt::maps::CSimplePointsMap::Create();
+    const auto scan = ndtom::testing::balmScan(i);
+    for (size_t k = 0; k < scan->size(); ++k) {
+      float x, y, z;
+      scan->getPoint(k, x, y, z);
+      const auto p = (-motion).composePoint(mrpt::math::TPoint3D(x, y, z));
+      cloud->insertPoint(float(p.x), float(p.y), float(p.z));
+    }
+    auto obs = mrpt::obs::CObservationPointCloud::Create();
+    obs->pointcloud = cloud;
+    obs->timestamp = mrpt::Clock::fromDouble(100.0 + i);
+    mrpt::obs::CSensoryFrame frame;
+    frame.insert(obs);
+    mrpt::obs::CActionCollection actions;
+    mrpt::obs::CActionRobotMovement3D move;
+    move.poseChange.mean = (truth - previous_truth) + CPose3D(0.05, 0, 0, mrpt::DEG2RAD(2.0), 0, 0);
+    actions.insert(move);
+    builder.processActionObservation(actions, frame);
+    previous_truth = truth;
+    const CPose3D got = builder.getCurrentPoseEstimation()->getMeanVal();
+    EXPECT_LT((got.translation() - truth.translation()).norm(), 0.05)
+        << i << ": " << got << " vs " << truth;
+    EXPECT_LT(std::abs(mrpt::math::wrapToPi(got.yaw() - truth.yaw())), mrpt::DEG2RAD(0.5)) << i;
+  }
+  const auto steps = builder.getSteps();
+  ASSERT_EQ(steps.size(), size_t(kScans));
+  for (const auto& step : steps) EXPECT_NE(step.outcome, ndtom::OnlineOutcome::Lost);
+  EXPECT_GT(builder.getCurrentlyBuiltMetricMap()
+                ->mapByClass<mrpt_ndtom::CNDTOccupancyMap>()
+                ->ndtMap()
+                .numGaussians(),
+            1000u);
 }
 
 TEST(MapBuilder, SkipsWhatItCannotMapAndRefusesNothing) {
