@@ -302,6 +302,14 @@ TEST_F(MapBuilderOnSena, InitializedWithAMapItGoesOnFromThere) {
     EXPECT_LT(distance2d(meanOf(base), poses_[i]), 0.15) << i;
   }
   EXPECT_EQ(base.getCurrentlyBuiltMapSize(), log_.size());
+
+  // Frames going back in time are refused, and the builder keeps its map.
+  mrpt::maps::CSimpleMap backwards;
+  for (size_t i = 2; i-- > 0;) backwards.insert(all.getAsPair(i));
+  const CPose3D before = meanOf(base);
+  EXPECT_THROW(base.initialize(backwards), std::exception);
+  EXPECT_EQ(base.getCurrentlyBuiltMapSize(), log_.size());
+  EXPECT_EQ(meanOf(base), before);
 }
 
 TEST_F(MapBuilderOnSena, SavesATopViewOfTheMapAndThePath) {

@@ -30,30 +30,28 @@ void CMetricMapBuilderNDT::initialize(const mrpt::maps::CSimpleMap& initialMap,
   mrpt::poses::CPose3D first_pose;
   if (!initialMap.empty()) initialMap.getAsPair(initialMap.size() - 1).pose->getMean(first_pose);
   if (x0) first_pose = mrpt::poses::CPose3D(x0->getMeanVal());
+  // Built aside: if the options or the initial map are refused, nothing changes.
+  std::unique_ptr<CNDTOnlineMapper> mapper;
   try {
-    m_mapper =
+    mapper =
         std::make_unique<CNDTOnlineMapper>(NDT_options.mapOptions, NDT_options.online, first_pose);
+    for (const auto& [pose, frame] : initialMap) {
+      mrpt::poses::CPose3D robot_pose;
+      pose->getMean(robot_pose);
+      for (const auto& obs : *frame)
+        if (obs && isSupportedObservation(*obs)) mapper->insertAtPose(*obs, robot_pose);
+    }
   } catch (const std::invalid_argument& e) {
-    THROW_EXCEPTION(std::string("CMetricMapBuilderNDT: ") + e.what());
+    THROW_EXCEPTION(std::string("CMetricMapBuilderNDT::initialize: ") + e.what());
   }
-  m_simpleMap.clear();
+  m_mapper = std::move(mapper);
+  m_simpleMap = initialMap;
   m_steps.clear();
   m_motion.reset();
   m_lastOdometryReading.reset();
   m_metricMapStale = true;
-  for (const auto& [pose, frame] : initialMap) {
-    mrpt::poses::CPose3D robot_pose;
-    pose->getMean(robot_pose);
-    for (const auto& obs : *frame)
-      if (obs && isSupportedObservation(*obs)) m_mapper->insertAtPose(*obs, robot_pose);
-    m_simpleMap.insert(pose, frame);
-  }
   m_pose = mrpt::poses::CPose3DPDFGaussian(first_pose);
-  if (x0) {
-    mrpt::poses::CPose3DPDFGaussian given;
-    given.copyFrom(*x0);
-    m_pose = given;
-  }
+  if (x0) m_pose.copyFrom(*x0);
 }
 
 mrpt::poses::CPose3DPDF::Ptr CMetricMapBuilderNDT::getCurrentPoseEstimation() const {
