@@ -12,7 +12,8 @@
 // the prediction. Unlike icp-slam every observation is registered and inserted: there are
 // no distance thresholds. An observation nothing places is "lost": its pose is the
 // prediction and it is not inserted. Observations of other types (images, IMU, ...) are
-// skipped.
+// skipped. options.enableMapUpdating = false is refused: the map is what the robot is
+// tracked against.
 //
 // Configuration (.ini, MRPT's style), for section S:
 //   [S]                             online mapper: registration, recovery, target
