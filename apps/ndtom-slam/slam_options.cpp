@@ -1,14 +1,20 @@
 #include "slam_options.h"
 
+#include <mrpt/config/CConfigFile.h>
+
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <sstream>
 #include <thread>
 #include <vector>
 
+#include "mrpt_ndtom/CMetricMapBuilderNDT.h"
 #include "ndtom_apps/command_line.h"
+#include "ndtom_apps/input_format.h"
 #include "ndtom_apps/option_values.h"
+#include "ndtom_apps/run_program.h"
 
 namespace ndtom::slam {
 namespace {
@@ -79,11 +85,76 @@ const std::set<std::string>& refusedMapOptions() {
   return refused;
 }
 
+// --config FILE.ini: CMetricMapBuilderNDT's sections (share/mrpt/ndtom-slam.ini), the online
+// mapper's keys from [--section] and the map's from [<section>_ndtOccupancyMap_00_insertOpts]
+// through ndtom-map's own --config. Read before the flags, which override it.
+struct ConfigFile {
+  std::string path;  ///< empty: none
+  std::string section = kDefaultSlamSection;
+};
+
+// The value of `name` ("--name v" or "--name=v") among the arguments; the last one wins.
+std::string argumentValue(int argc, char** argv, const std::string& name, std::string value) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == name && i + 1 < argc)
+      value = argv[++i];
+    else if (arg.rfind(name + "=", 0) == 0)
+      value = arg.substr(name.size() + 1);
+  }
+  return value;
+}
+
+// The online mapper's options from the file's section; every key one the builder saves.
+ndtom::OnlineMapperOptions loadOnline(const ConfigFile& config,
+                                      const mrpt::config::CConfigFile& file) {
+  using Params = mrpt_ndtom::CMetricMapBuilderNDT::TConfigParams;
+  const std::vector<std::string> known = Params::keys();
+  std::vector<std::string> keys;
+  file.getAllKeys(config.section, keys);
+  for (std::string key : keys) {
+    key = apps::trim(key);
+    if (std::find(known.begin(), known.end(), key) == known.end())
+      throw UsageError(config.path + ": [" + config.section + "] unknown key '" + key + "'");
+  }
+  Params params;
+  try {
+    params.loadFromConfigFile(file, config.section);
+  } catch (const std::exception& e) {
+    throw UsageError(config.path + ": " + apps::oneLineMessage(e));
+  }
+  return params.online;
+}
+
+// Applies the file to `o` and says whether it has the map's section.
+bool applyConfig(const ConfigFile& config, SlamOptions& o) {
+  apps::requireRegularFile("--config", config.path);  // MRPT's reader would wait on a FIFO
+  if (!std::ifstream(config.path).good())
+    throw UsageError("--config " + config.path + ": cannot open the file");
+  const mrpt::config::CConfigFile file(config.path);
+  const std::string map_section =
+      mrpt_ndtom::CMetricMapBuilderNDT::TConfigParams::mapSection(config.section);
+  const bool has_map = file.sectionExists(map_section);
+  if (!file.sectionExists(config.section) && !has_map)
+    throw UsageError(config.path + ": no section [" + config.section +
+                     "] (choose one with --section)");
+  if (file.sectionExists(config.section)) o.online = loadOnline(config, file);
+  return has_map;
+}
+
 }  // namespace
 
 SlamOptions parseSlamOptions(int argc, char** argv) {
   SlamOptions o;
   const auto& table = optionTable();
+  // The file first, then the flags given, which override it.
+  ConfigFile config;
+  config.path = argumentValue(argc, argv, "--config", "");
+  config.section = argumentValue(argc, argv, "--section", config.section);
+  const bool help = std::any_of(argv + 1, argv + argc, [](const char* a) {
+    return std::string(a) == "--help" || std::string(a) == "-h";
+  });
+  const bool config_has_map = !config.path.empty() && !help && applyConfig(config, o);
   // Ours first; everything else is ndtom-map's, parsed by its own parser.
   std::vector<std::string> rest = {argv[0]};
   for (int i = 1; i < argc; ++i) {
@@ -91,8 +162,14 @@ SlamOptions parseSlamOptions(int argc, char** argv) {
     const size_t eq = arg.rfind("--", 0) == 0 ? arg.find('=') : std::string::npos;
     const std::string name = arg.substr(0, eq);
     if (refusedMapOptions().count(name))
-      throw UsageError(name + ": ndtom-slam finds the poses itself (use ndtom-map for given poses)");
+      throw UsageError(name +
+                       ": ndtom-slam finds the poses itself (use ndtom-map for given poses)");
     if (name == "--help" || name == "-h") o.help = true;
+    if (name == "--config" || name == "--section") {  // read above
+      if (eq == std::string::npos && ++i >= argc)
+        throw UsageError(name + ": missing value (see --help)");
+      continue;
+    }
     const auto spec = table.find(name);
     if (spec == table.end()) {
       rest.push_back(arg);
@@ -108,6 +185,11 @@ SlamOptions parseSlamOptions(int argc, char** argv) {
     spec->second.handle(o, value);
   }
   if (o.help) return o;
+  // The map's keys: ndtom-map's --config reads them, under its own flags.
+  if (config_has_map)
+    rest.insert(rest.end(),
+                {"--config", config.path, "--section",
+                 mrpt_ndtom::CMetricMapBuilderNDT::TConfigParams::mapSection(config.section)});
   std::vector<char*> rest_argv;
   for (std::string& a : rest) rest_argv.push_back(a.data());
   o.map = mapper::parseMapperOptions(int(rest_argv.size()), rest_argv.data());
@@ -132,12 +214,20 @@ std::string helpText() {
        "\n"
        "Usage: ndtom-slam INPUT -o PREFIX [options]\n"
        "\n"
-       "INPUT, the map's options (--resolution, --config, ...) and the outputs are ndtom-map's\n"
-       "(see ndtom-map --help), without the options that give poses (--poses, --passes, ...):\n"
+       "INPUT, the map's options (--resolution, ...) and the outputs are ndtom-map's (see\n"
+       "ndtom-map --help), without the options that give poses (--poses, --passes, ...):\n"
        "a PCD folder's poses.txt is not read; a rawlog's odometry is the prediction.\n"
        "It writes what ndtom-map writes, plus PREFIX.tum (one line per scan: time, position,\n"
        "quaternion, the sensor's pose for PCD scans, the robot's for rawlogs) from which\n"
        "ndtom-map INPUT --poses PREFIX.tum rebuilds the same map bit for bit.\n"
+       "\n"
+       "Configuration file (the flags given override it):\n"
+       "  --config FILE.ini         as share/mrpt/ndtom-slam.ini: registration and recovery\n"
+       "                            keys from [SECTION], the map's from\n"
+       "                            [SECTION_ndtOccupancyMap_00_insertOpts] (threads: the map's)\n"
+       "  --section NAME            SECTION ("
+    << kDefaultSlamSection
+    << ")\n"
        "\n"
        "Registration:\n"
        "  --method p2d|d2d          point-to-distribution or distribution-to-distribution (p2d)\n"

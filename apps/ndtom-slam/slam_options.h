@@ -9,6 +9,9 @@
 
 namespace ndtom::slam {
 
+/// --config's section when --section is not given: share/mrpt/ndtom-slam.ini's.
+inline const std::string kDefaultSlamSection = "NDTSLAM";
+
 struct SlamOptions {
   mapper::MapperOptions map;  ///< input, --config and map keys, outputs
   /// Registration and recovery (resolution, threads and the map come from `map`).
@@ -18,8 +21,9 @@ struct SlamOptions {
   bool help = false;
 };
 
-/// Throws apps::UsageError with a one-line message for unknown options, bad values, or
-/// ndtom-map options that give poses (--poses, --passes, ...).
+/// --config FILE first (its [--section] and map section), then the flags, which override it.
+/// Throws apps::UsageError with a one-line message for unknown options or keys, bad values,
+/// or ndtom-map options that give poses (--poses, --passes, ...).
 SlamOptions parseSlamOptions(int argc, char** argv);
 std::string helpText();
 

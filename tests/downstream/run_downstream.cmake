@@ -19,6 +19,7 @@ file(REMOVE_RECURSE ${WORK_DIR})
 run_expect(0 ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 
 foreach(file bin/ndtom-map bin/ndtom-slam share/ndtom/mrpt/observations2map_ndtom.ini
+        share/ndtom/mrpt/ndtom-slam.ini
         share/ndtom/data/tum-fr2-pioneer-slam2/associations.txt)
   if(NOT EXISTS ${prefix}/${file})
     message(FATAL_ERROR "not installed: ${file}")
@@ -49,6 +50,7 @@ run_expect(0 ${CMAKE_COMMAND} --build ${WORK_DIR}/mrpt_user -j2)
 run_expect(0 ${WORK_DIR}/mrpt_user/ini_user)
 run_expect(0 ${WORK_DIR}/mrpt_user/ini_user_call)
 run_expect(3 ${WORK_DIR}/mrpt_user/ini_user_bare)
+run_expect(0 ${WORK_DIR}/mrpt_user/builder_user ${prefix}/share/ndtom/mrpt/ndtom-slam.ini)
 
 # (c) The Debian package (cpack -G DEB, as doc/mrpt.md says): it builds, declares MRPT's
 # runtime libraries, and its programs run from the extracted files with no install.

@@ -20,10 +20,11 @@ class CNDTOnlineMapper {
  public:
   /// The map's options as CNDTOccupancyMap takes them (resolution, occupancy, decimation,
   /// ...), the registration's and recovery's as the core takes them (its `map` is replaced by
-  /// `map_options`). The first observation is placed at the origin. Throws
+  /// `map_options`). The first observation is placed at `first_pose` (the robot's). Throws
   /// std::invalid_argument naming a bad option.
   explicit CNDTOnlineMapper(const CNDTOccupancyMap::TInsertionOptions& map_options = {},
-                            const ndtom::OnlineMapperOptions& online = {});
+                            const ndtom::OnlineMapperOptions& online = {},
+                            const mrpt::poses::CPose3D& first_pose = {});
 
   /// The robot's pose when `obs` was taken, with its covariance (MRPT's x, y, z, yaw, pitch,
   /// roll), and the observation inserted there unless nothing placed it (lastStep().outcome
@@ -34,6 +35,10 @@ class CNDTOnlineMapper {
       const mrpt::obs::CObservation& obs,
       const std::optional<mrpt::poses::CPose3D>& odometry = std::nullopt);
 
+  /// Inserts `obs` at a pose known from elsewhere (a map built before), which becomes the
+  /// last pose: the next observation is registered from there. Throws as processObservation.
+  void insertAtPose(const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& robot_pose);
+
   /// The figures of the last observation: outcome, registration verdict, timing.
   const ndtom::OnlineStep& lastStep() const { return m_last; }
   const ndtom::NdtMap& ndtMap() const { return m_mapper.map(); }
@@ -41,6 +46,11 @@ class CNDTOnlineMapper {
   CNDTOccupancyMap::Ptr map() const;
 
  private:
+  struct Located;
+  Located locate(const mrpt::obs::CObservation& obs,
+                 const std::optional<mrpt::poses::CPose3D>& odometry);
+  void commit(Located& located);
+
   CNDTOccupancyMap::TInsertionOptions m_insertion;
   ndtom::OnlineMapper m_mapper;
   ndtom::OnlineStep m_last;

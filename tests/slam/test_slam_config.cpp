@@ -1,0 +1,123 @@
+// ndtom-slam --config: CMetricMapBuilderNDT's .ini sections (share/mrpt/ndtom-slam.ini), with
+// the flags given winning over the file; bad files fail naming the section and the key.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "mapper/mapper_run.h"
+
+using namespace mapper_test;
+
+namespace {
+
+const std::string kSlam = NDTOM_SLAM_EXE;
+
+const char* kConfig = R"ini(
+[NDTSLAM]
+recovery_radius      = 3
+target_radius        = 40
+min_matched_fraction = 0.3
+
+[NDTSLAM_ndtOccupancyMap_00_insertOpts]
+resolution = 0.25
+max_range  = 30
+
+[other]
+recovery_radius = 1.5
+)ini";
+
+std::string writeConfig(const TempDir& dir, const std::string& text) {
+  const std::string path = (dir / "slam.ini").string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+// ndtom-slam on the shipped scans with `args`; the summary's text ("" if it failed).
+std::string summaryOf(const TempDir& dir, const std::string& args, ProgramRun* run = nullptr) {
+  const std::string prefix = (dir / "run").string();
+  fs::remove(prefix + ".summary.json");
+  const ProgramRun r = runExecutable(
+      kSlam, quoted(kLidar) + " -o " + quoted(prefix) + " --no-pictures -q " + args, dir);
+  if (run) *run = r;
+  EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+  return readText(prefix + ".summary.json");
+}
+
+}  // namespace
+
+TEST(SlamConfig, TheFileSetsTheOptionsAndFlagsWinOverIt) {
+  TempDir dir;
+  const std::string ini = quoted(writeConfig(dir, kConfig));
+  const std::string from_file = summaryOf(dir, "--config " + ini);
+  EXPECT_EQ(jsonNumber(from_file, "recovery_radius"), 3);
+  EXPECT_EQ(jsonNumber(from_file, "target_radius"), 40);
+  EXPECT_EQ(jsonNumber(from_file, "min_matched_fraction"), 0.3);
+  EXPECT_EQ(jsonNumber(from_file, "resolution"), 0.25);
+  EXPECT_EQ(jsonNumber(from_file, "lost"), 0);
+
+  // Flags before or after --config, the online mapper's and the map's, win.
+  const std::string flags = summaryOf(dir, "--min-matched-fraction 0.35 --config=" + ini +
+                                               " --resolution 0.2 --recovery-radius 2.5");
+  EXPECT_EQ(jsonNumber(flags, "min_matched_fraction"), 0.35);
+  EXPECT_EQ(jsonNumber(flags, "resolution"), 0.2);
+  EXPECT_EQ(jsonNumber(flags, "recovery_radius"), 2.5);
+  EXPECT_EQ(jsonNumber(flags, "target_radius"), 40) << "the file's, where no flag is given";
+
+  // Another section: its keys, the rest at the defaults (no map section for it).
+  const std::string other = summaryOf(dir, "--config " + ini + " --section other");
+  EXPECT_EQ(jsonNumber(other, "recovery_radius"), 1.5);
+  EXPECT_EQ(jsonNumber(other, "target_radius"), 50);
+  EXPECT_EQ(jsonNumber(other, "resolution"), 0.2);
+}
+
+TEST(SlamConfig, BadFilesAreRefusedNamingTheSectionAndTheKey) {
+  TempDir dir;
+  struct Case {
+    std::string text, args, expected[2];
+  };
+  const std::vector<Case> cases = {
+      {"[NDTSLAM]\ntarget_radius = 40m\n", "", {"[NDTSLAM]", "target_radius"}},
+      {"[NDTSLAM]\nrecovery_yaw_deg = 400\n", "", {"[NDTSLAM]", "recovery_yaw_deg"}},
+      {"[NDTSLAM]\nrecovery_radious = 3\n", "", {"[NDTSLAM]", "unknown key 'recovery_radious'"}},
+      {"[NDTSLAM_ndtOccupancyMap_00_insertOpts]\nresolution = -1\n",
+       "",
+       {"NDTSLAM_ndtOccupancyMap_00_insertOpts", "resolution"}},
+      {"[NDTSLAM]\nplanar = true\n", "--section missing", {"no section [missing]", "--section"}},
+      {"[NDTSLAM]\n", "--section", {"--section", "missing value"}},
+  };
+  for (const Case& c : cases) {
+    const std::string ini = quoted(writeConfig(dir, c.text));
+    const ProgramRun run = runExecutable(
+        kSlam,
+        quoted(kLidar) + " -o " + quoted((dir / "x").string()) + " --config " + ini + " " + c.args,
+        dir);
+    EXPECT_EQ(run.exit_code, 2) << c.text << run.err;
+    for (const std::string& part : c.expected)
+      EXPECT_NE(run.err.find(part), std::string::npos) << c.text << " -> " << run.err;
+    EXPECT_TRUE(outputsOf(dir, "x").empty());
+  }
+  const ProgramRun none = runExecutable(kSlam,
+                                        quoted(kLidar) + " -o " + quoted((dir / "x").string()) +
+                                            " --config " + quoted((dir / "absent.ini").string()),
+                                        dir);
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("absent.ini"), std::string::npos) << none.err;
+}
+
+TEST(SlamConfig, TheShippedConfigTracksMrptsSenaLoop) {
+  if (!fs::exists(kSenaRawlog)) GTEST_SKIP() << "no SENA log (Debian's mrpt-common)";
+  TempDir dir;
+  const std::string prefix = (dir / "sena").string();
+  const ProgramRun run =
+      runExecutable(kSlam,
+                    quoted(kSenaRawlog) + " -o " + quoted(prefix) + " --no-pictures -q --config " +
+                        quoted(std::string(NDTOM_SOURCE_DIR) + "/share/mrpt/ndtom-slam.ini"),
+                    dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string json = readText(prefix + ".summary.json");
+  // Every scan of the log; MRPT's action/frame reader (icp-slam's) skips the first, which
+  // comes before any action.
+  EXPECT_EQ(jsonNumber(json, "scans"), 225);
+  EXPECT_EQ(jsonNumber(json, "lost"), 0);
+  EXPECT_EQ(jsonNumber(json, "resolution"), 0.2);
+}
