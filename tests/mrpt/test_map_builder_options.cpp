@@ -41,8 +41,6 @@ weak_direction_sigma = 0.25
 ground_thinning      = 50
 target_radius        = 30
 target_refresh_distance  = 1.5
-target_refresh_angle_deg = 5
-target_max_scans     = 4
 
 [slam_ndtOccupancyMap_00_insertOpts]
 resolution = 0.25
@@ -83,8 +81,6 @@ TEST(MapBuilderOptions, EveryKeyIsReadAsWritten) {
   EXPECT_EQ(p.ground_thinning, 50);
   EXPECT_EQ(o.online.target_radius, 30);
   EXPECT_EQ(o.online.target_refresh_distance, 1.5);
-  EXPECT_EQ(o.online.target_refresh_angle_deg, 5);
-  EXPECT_EQ(o.online.target_max_scans, 4);
   EXPECT_EQ(o.mapOptions.resolution, 0.25);
   EXPECT_EQ(o.mapOptions.scan.max_range, 20);
   EXPECT_EQ(o.mapOptions.decimation, 2u);
@@ -114,7 +110,7 @@ TEST(MapBuilderOptions, SaveThenLoadGivesTheSameOptions) {
   EXPECT_TRUE(saved.sectionExists("other_ndtOccupancyMap_00_insertOpts"));
   // The values themselves, not only operator==.
   EXPECT_EQ(again.online.placement.registration.level_factors, (std::vector<int>{8, 4, 2}));
-  EXPECT_EQ(again.online.target_max_scans, 4);
+  EXPECT_EQ(again.online.target_refresh_distance, 1.5);
   EXPECT_EQ(again.mapOptions.resolution, 0.25);
   // An infinite sigma ("never keep the prediction") survives too.
   Params never = original;
@@ -127,7 +123,7 @@ TEST(MapBuilderOptions, SaveThenLoadGivesTheSameOptions) {
 TEST(MapBuilderOptions, TheKeysAreThoseSaved) {
   const auto keys = Params::keys();
   for (const char* key : {"level_factors", "planar", "recovery_radius", "target_radius",
-                          "target_max_scans", "threads", "max_free_fraction"})
+                          "target_refresh_distance", "threads", "max_free_fraction"})
     EXPECT_NE(std::find(keys.begin(), keys.end(), key), keys.end()) << key;
   EXPECT_EQ(std::find(keys.begin(), keys.end(), "resolution"), keys.end())
       << "the map's keys are in its own section";
@@ -142,12 +138,11 @@ TEST(MapBuilderOptions, BadValuesNameTheSectionAndTheKey) {
       {"[slam]\ntarget_radius = 50abc\n", "[slam]", "target_radius"},
       {"[slam]\ntarget_radius = -1\n", "[slam]", "target_radius"},
       {"[slam]\nrecovery_radius = nan\n", "[slam]", "recovery_radius"},
-      {"[slam]\ntarget_max_scans = 0\n", "[slam]", "target_max_scans"},
+      {"[slam]\ntarget_refresh_distance = -2\n", "[slam]", "target_refresh_distance"},
       {"[slam]\nground_thinning = 2.5\n", "[slam]", "ground_thinning"},
       {"[slam]\nplanar = on\n", "[slam]", "planar"},
       {"[slam]\nlevel_factors = 2 4\n", "[slam]", "level_factors"},
       {"[slam]\nthreads = 0\n", "[slam]", "threads"},
-      {"[slam]\ntarget_refresh_angle_deg = 200\n", "[slam]", "target_refresh_angle_deg"},
       {"[slam]\n[slam_ndtOccupancyMap_00_insertOpts]\nresolution = -0.2\n",
        "[slam_ndtOccupancyMap_00_insertOpts]", "resolution"},
   };

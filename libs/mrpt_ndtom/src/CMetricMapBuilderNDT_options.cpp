@@ -14,7 +14,6 @@ namespace mrpt_ndtom {
 namespace {
 
 constexpr int kMaxGroundThinning = 1000;  // as ndtom-slam's --ground-thinning
-constexpr long long kMaxTargetScans = 1000000;
 
 void writeKey(mrpt::config::CConfigFileBase& c, const std::string& section, const std::string& name,
               double value, const std::string& comment) {
@@ -61,10 +60,6 @@ void CMetricMapBuilderNDT::TConfigParams::loadFromConfigFile(
   o.target_radius = iniReal(source, section, "target_radius", o.target_radius);
   o.target_refresh_distance =
       iniReal(source, section, "target_refresh_distance", o.target_refresh_distance);
-  o.target_refresh_angle_deg =
-      iniReal(source, section, "target_refresh_angle_deg", o.target_refresh_angle_deg);
-  o.target_max_scans =
-      int(iniInteger(source, section, "target_max_scans", o.target_max_scans, 1, kMaxTargetScans));
   try {
     ndtom::OnlineMapperOptions check = o;
     check.map = map.toMapOptions();
@@ -93,10 +88,7 @@ void CMetricMapBuilderNDT::TConfigParams::saveToConfigFile(mrpt::config::CConfig
   writeKey(c, s, "target_radius", online.target_radius,
            "Register against the map within this distance [m]");
   writeKey(c, s, "target_refresh_distance", online.target_refresh_distance,
-           "Cut that region again after this travel [m] (0: off) ...");
-  writeKey(c, s, "target_refresh_angle_deg", online.target_refresh_angle_deg,
-           "... or this turn [deg] (0: off) ...");
-  writeKey(c, s, "target_max_scans", online.target_max_scans, "... or this many scans");
+           "Move that region with the sensor after this travel [m] (0: every scan)");
   mapOptions.saveToConfigFile(c, mapSection(s));
 }
 
@@ -133,8 +125,7 @@ bool CMetricMapBuilderNDT::TConfigParams::operator==(const TConfigParams& o) con
          p.weak_direction_sigma == x.weak_direction_sigma &&
          p.ground_thinning == x.ground_thinning && online.target_radius == o.online.target_radius &&
          online.target_refresh_distance == o.online.target_refresh_distance &&
-         online.target_refresh_angle_deg == o.online.target_refresh_angle_deg &&
-         online.target_max_scans == o.online.target_max_scans && online.threads == o.online.threads;
+         online.threads == o.online.threads;
 }
 
 }  // namespace mrpt_ndtom
