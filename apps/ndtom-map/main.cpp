@@ -14,6 +14,7 @@
 #include "ndtom_apps/option_values.h"
 #include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
+#include "ndtom_apps/run_budget.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_apps/scan_source.h"
 #include "ndtom_apps/settings_from_options.h"
@@ -77,10 +78,12 @@ void writeSummaryAndCommit(const MapperOptions& o, RunSummary& summary, apps::St
 void writeOutOfCore(const MapperOptions& o, const apps::SourceSettings& settings,
                     const BuildSettings& build, const MappingResult& mapping,
                     apps::OutputFiles& out, apps::StageTimes& times,
-                    std::chrono::steady_clock::time_point start, size_t peak_rss_after_mapping) {
+                    std::chrono::steady_clock::time_point start, size_t peak_rss_after_mapping,
+                    const RunBudget& budget) {
   const std::string tiles_file = out.stage("tiled_map", ".ndtomtiles");
   times.time("tiled_map", [&] { mapping.out_of_core->saveTiled(tiles_file); });
   RunSummary summary = summarize(o, settings, build.map, build.threads, mapping, {}, start);
+  summary.budget = budget;
   summary.peak_rss_after_mapping = peak_rss_after_mapping;
   summary.out_of_core =
       OutOfCoreInfo{build.resident_budget, build.tile_blocks, mapping.out_of_core->stats()};
@@ -90,7 +93,8 @@ void writeOutOfCore(const MapperOptions& o, const apps::SourceSettings& settings
 int run(const MapperOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   // Read the options and open the input: every check that can fail fast happens here.
-  const InsertionOptions insertion = resolveInsertionOptions(o.insertion);
+  InsertionOptions insertion = resolveInsertionOptions(o.insertion);
+  const RunBudget budget = applyRunBudget(insertion, o.insertion, o.input);
   checkOptionsTogether(o, insertion);
   const apps::SourceSettings settings = sourceSettingsFor(o, insertion);
   auto source = apps::openScanSource(settings);
@@ -133,7 +137,7 @@ int run(const MapperOptions& o) {
   times.add("insert", insert_s);
 
   if (mapping.out_of_core) {
-    writeOutOfCore(o, settings, build, mapping, out, times, start, peak_rss_after_mapping);
+    writeOutOfCore(o, settings, build, mapping, out, times, start, peak_rss_after_mapping, budget);
     return 0;
   }
 
@@ -154,6 +158,7 @@ int run(const MapperOptions& o) {
   // The summary, then every file into place at once.
   RunSummary summary = summarize(o, settings, map.ndtMap().options(),
                                  map.insertionOptions.scan.threads, mapping, coarse, start);
+  summary.budget = budget;
   summary.peak_rss_after_mapping = peak_rss_after_mapping;
   writeSummaryAndCommit(o, summary, times, out);
   return 0;

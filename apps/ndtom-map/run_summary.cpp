@@ -106,6 +106,10 @@ void writeMapAndCosts(apps::JsonWriter& j, const RunSummary& s) {
   }
   j.endObject();
   j.beginObject("memory");
+  j.field("budget_bytes", s.budget.bytes);
+  j.field("budget_rule", s.budget.rule);
+  j.field("input_bytes", s.budget.input_bytes);
+  j.field("available_bytes", s.budget.available_bytes);
   j.field("map_bytes", last.map_bytes);
   j.field("peak_rss_after_mapping_bytes", s.peak_rss_after_mapping);
   j.field("peak_rss_bytes", s.peak_rss);
@@ -190,6 +194,9 @@ std::string summaryText(const RunSummary& s) {
                 p.rejected_too_far, 1e3 * median(m.insert_seconds),
                 1e3 * apps::percentile(m.insert_seconds, 0.95), s.total_seconds,
                 megabytes(s.peak_rss));
+  text += buffer;
+  std::snprintf(buffer, sizeof buffer, "  budget  %.0f MB (%s)\n", megabytes(s.budget.bytes),
+                s.budget.rule.c_str());
   text += buffer;
   if (s.stages && !s.stages->stages().empty()) {
     text += "  stages ";

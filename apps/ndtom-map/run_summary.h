@@ -9,6 +9,7 @@
 #include "map_builder.h"
 #include "ndtom_apps/map_outputs.h"
 #include "ndtom_apps/output_files.h"
+#include "ndtom_apps/run_budget.h"
 #include "ndtom_apps/stage_times.h"
 
 namespace ndtom::mapper {
@@ -27,6 +28,7 @@ struct RunSummary {
   const MappingResult* mapping = nullptr;
   std::optional<CoarseMapInfo> coarse;
   std::optional<OutOfCoreInfo> out_of_core;
+  RunBudget budget;  ///< the map's memory budget and why
   double total_seconds = 0;
   size_t peak_rss_after_mapping = 0;  ///< bytes, before the pictures and files
   size_t peak_rss = 0;                ///< bytes, whole run

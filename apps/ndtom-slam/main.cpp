@@ -8,6 +8,7 @@
 #include "ndtom_apps/oblique_view.h"
 #include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
+#include "ndtom_apps/run_budget.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_apps/settings_from_options.h"
 #include "ndtom_apps/trajectory_poses.h"
@@ -40,7 +41,8 @@ std::optional<ndtom::TrajectoryError> referenceError(const SlamOptions& o, const
 int run(const SlamOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   const ndtom::mapper::MapperOptions& m = o.map;
-  const ndtom::mapper::InsertionOptions insertion = ndtom::mapper::resolveInsertionOptions(m.insertion);
+  ndtom::mapper::InsertionOptions insertion = ndtom::mapper::resolveInsertionOptions(m.insertion);
+  const ndtom::mapper::RunBudget budget = ndtom::mapper::applyRunBudget(insertion, m.insertion, m.input);
   apps::SourceSettings settings = ndtom::mapper::sourceSettingsFor(m, insertion);
   settings.use_poses = false;
   settings.poses_optional = true;
@@ -78,6 +80,7 @@ int run(const SlamOptions& o) {
   summary.files = out.files();
   summary.files.push_back({"summary", m.prefix + ".summary.json"});
   summary.peak_rss = apps::peakRssBytes();
+  summary.budget = budget;
   summary.total_seconds = apps::secondsSince(start);
   out.writeBytes("summary", ".summary.json", summaryJson(summary));
   out.commit();

@@ -217,6 +217,8 @@ std::string helpText() {
        "INPUT, the map's options (--resolution, ...) and the outputs are ndtom-map's (see\n"
        "ndtom-map --help), without the options that give poses (--poses, --passes, ...):\n"
        "a PCD folder's poses.txt is not read; a rawlog's odometry is the prediction.\n"
+       "The memory budget, unless --memory-budget is given, is ndtom-map's: 4 x the input's\n"
+       "size on disk, at least 512 MB, at most half the memory available.\n"
        "It writes what ndtom-map writes, plus PREFIX.tum (one line per scan: time, position,\n"
        "quaternion, the sensor's pose for PCD scans, the robot's for rawlogs) from which\n"
        "ndtom-map INPUT --poses PREFIX.tum rebuilds the same map bit for bit.\n"

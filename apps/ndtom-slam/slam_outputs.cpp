@@ -101,6 +101,8 @@ std::string summaryJson(const SlamSummary& s) {
   j.field("loop_seconds", r.seconds);
   j.field("total_seconds", s.total_seconds);
   j.field("peak_rss_bytes", s.peak_rss);
+  j.field("memory_budget_bytes", s.budget.bytes);
+  j.field("memory_budget_rule", s.budget.rule);
   apps::writeFileList(j, s.files);
   j.beginArray("per_scan");
   for (const SlamScan& scan : r.scans) writeStep(j, scan);
@@ -133,8 +135,9 @@ std::string summaryText(const SlamSummary& s) {
                   e.length > 0 ? 100 * e.final / e.length : 0.0, e.length);
     t << line;
   }
-  std::snprintf(line, sizeof(line), "  %.1f s in all, peak memory %.0f MB\n", s.total_seconds,
-                double(s.peak_rss) / 1e6);
+  std::snprintf(line, sizeof(line), "  %.1f s in all, peak memory %.0f MB; budget %.0f MB (%s)\n",
+                s.total_seconds, double(s.peak_rss) / 1e6, double(s.budget.bytes) / 1e6,
+                s.budget.rule.c_str());
   t << line;
   for (const apps::WrittenFile& f : s.files) t << "  " << f.path << "\n";
   return t.str();

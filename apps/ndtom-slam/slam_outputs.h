@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ndtom_apps/output_files.h"
+#include "ndtom_apps/run_budget.h"
 #include "ndtom_eval/trajectory_error.h"
 #include "slam_loop.h"
 #include "slam_options.h"
@@ -24,6 +25,7 @@ struct SlamSummary {
   std::optional<ndtom::TrajectoryError> reference_error;  ///< with --reference
   double total_seconds = 0;
   size_t peak_rss = 0;
+  mapper::RunBudget budget;  ///< the map's memory budget and why
   std::vector<apps::WrittenFile> files;
 };
 

@@ -184,7 +184,10 @@ std::string helpText() {
     s << "  " << option << std::string(option.size() < 26 ? 26 - option.size() : 1, ' ') << key.help
       << "\n";
   }
-  s << "  --coarse K                also write a map K times coarser (exact merge of cells)\n"
+  s << "                            --memory-budget by default: 4 x the input's size on disk,\n"
+       "                            at least 512 MB, at most half the memory available (the\n"
+       "                            summary says which)\n"
+       "  --coarse K                also write a map K times coarser (exact merge of cells)\n"
        "  --passes N                replay the input N times, cells and memory after each (1)\n"
        "\n"
        "Out of core (maps bigger than memory):\n"
