@@ -245,7 +245,7 @@ std::string worldHelpText() {
          "  --speed V            [m/s] for times.txt (10)\n"
          "  --threads N          scans simulated in parallel (the machine's cores, fewer\n"
          "                       if the memory budget holds fewer scans)\n"
-         "  --memory-budget MB   memory the run may take, as ndtom-map's (a quarter of the\n"
+         "  --memory-budget MB   memory the run may take (the library's default: a quarter of the\n"
          "                       machine's, at most 512 MB): the city (~5 kB a block, 8 B an\n"
          "                       8 m cell) and ~36 B a ray (rings x azimuth steps) a\n"
          "                       thread; larger runs are refused before they start. Scans\n"

@@ -92,3 +92,33 @@ TEST(RunBudget, NdtomMapSaysWhichBudgetItRanUnder) {
   EXPECT_EQ(jsonNumber(given, "budget_bytes"), 300e6);
   EXPECT_NE(given.find("\"budget_rule\": \"--memory-budget\""), std::string::npos) << given;
 }
+
+TEST(RunBudget, AnInputTooLargeForTheMachineIsMappedOutOfCore) {
+  const uint64_t available = ndtom::mapper::availableMemoryBytes();
+  if (available == 0) GTEST_SKIP() << "no /proc/meminfo";
+  // The shipped scans, and beside them a sparse file as large as the memory available: the
+  // input's size says the map will not fit (the scans themselves are a few MB).
+  TempDir dir;
+  const fs::path input = dir / "scans";
+  fs::create_directories(input);
+  for (const auto& entry : fs::directory_iterator(kLidar))
+    fs::create_symlink(entry.path(), input / entry.path().filename());
+  writeBytes(input / "padding.bin", 1);
+  fs::resize_file(input / "padding.bin", available);
+  const ProgramRun run = runMapper(
+      quoted(input.string()) + " -o " + quoted((dir / "big").string()) + " --max-scans 2", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("building out of core"), std::string::npos) << run.err;
+  EXPECT_TRUE(fs::is_regular_file(dir / "big.ndtomtiles"));
+  EXPECT_FALSE(fs::exists(dir / "big.ndtom"));
+  const std::string summary = readText(dir / "big.summary.json");
+  EXPECT_GT(jsonNumber(summary, "resident_budget_bytes"), 0);
+  // Asked for a budget, it builds in memory.
+  const ProgramRun asked =
+      runMapper(quoted(input.string()) + " -o " + quoted((dir / "asked").string()) +
+                    " --max-scans 2 --no-pictures --memory-budget 600",
+                dir);
+  ASSERT_EQ(asked.exit_code, 0) << asked.err;
+  EXPECT_TRUE(fs::is_regular_file(dir / "asked.ndtom"));
+  EXPECT_EQ(asked.err.find("out of core"), std::string::npos) << asked.err;
+}

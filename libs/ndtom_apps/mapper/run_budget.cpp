@@ -84,4 +84,9 @@ RunBudget applyRunBudget(InsertionOptions& options, const InsertionSettings& set
   return budget;
 }
 
+bool needsOutOfCore(const RunBudget& budget) {
+  return !budget.given && budget.available_bytes > 0 &&
+         budget.input_bytes > budget.available_bytes / 2 / kBudgetPerInputByte;
+}
+
 }  // namespace ndtom::mapper

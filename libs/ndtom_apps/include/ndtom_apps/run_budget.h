@@ -41,4 +41,9 @@ uint64_t availableMemoryBytes();
 RunBudget applyRunBudget(InsertionOptions& options, const InsertionSettings& settings,
                          const std::string& input);
 
+/// Whether a run under `budget` should build out of core by itself: the rule's budget was
+/// capped by the memory available (4 x the input does not fit in half of it), so the map,
+/// about the input's size, and the outputs made from it in memory may not fit either.
+bool needsOutOfCore(const RunBudget& budget);
+
 }  // namespace ndtom::mapper
