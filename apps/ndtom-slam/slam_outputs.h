@@ -22,6 +22,8 @@ struct SlamSummary {
   const SlamResult* result = nullptr;
   const ndtom::NdtMap* map = nullptr;  ///< the map written (moved out of the result)
   std::optional<ndtom::TrajectoryError> reference_error;  ///< with --reference
+  /// With loop closure and --reference: the odometry's, before optimization.
+  std::optional<ndtom::TrajectoryError> odometry_reference_error;
   double total_seconds = 0;
   size_t peak_rss = 0;
   std::vector<apps::WrittenFile> files;
