@@ -21,8 +21,15 @@ struct LoopClosureOptions {
   KeyframeOptions keyframes;
   LoopSearchOptions search;
   LoopCheckOptions check;
-  /// Keyframes whose submaps make the live map, the current one included (Default: 4).
-  size_t window = 4;
+  /// Keyframes whose submaps make the live map, the current one included (Default: 3: the
+  /// two finished before it, a copy and a merge of 0.1-0.2 s at each keyframe; 6 took 0.4 s).
+  size_t window = 3;
+  /// After this many lost scans in a row odometry starts again: the scan is inserted at its
+  /// prediction and starts a keyframe, joined to the last by an edge of `restart_sigma_m`
+  /// and `restart_sigma_deg` (Default: 5; 2 m, 10°), so that a loop may correct it. Without
+  /// it a live map of a few keyframes that once loses the robot never finds it again.
+  int restart_after_lost = 5;
+  double restart_sigma_m = 2, restart_sigma_deg = 10;
   /// Odometry edges: σ of translation (m) and rotation (degrees), a constant plus a part per
   /// metre between the keyframes, added to the scans' registration covariances (which treat
   /// points as independent and alone would trust odometry over any loop).
@@ -44,6 +51,7 @@ struct LoopClosureReport {
   std::vector<size_t> keyframe_first_scan;
   std::vector<LoopRecord> loops;  ///< every candidate checked
   size_t accepted = 0, rejected = 0, optimizations = 0;
+  size_t restarts = 0;  ///< odometry started again after lost scans
   GraphOptimization last_optimization;
   double check_seconds = 0, optimize_seconds = 0, window_seconds = 0;
   std::string graph_text;  ///< MRPT's text format
@@ -66,9 +74,11 @@ class LoopClosure {
 
  private:
   void startKeyframe(OnlineMapper& mapper, const OnlineStep& step,
-                     const std::vector<Eigen::Vector3d>& points_sensor);
-  void addOdometryEdge(size_t newer);
+                     const std::vector<Eigen::Vector3d>& points_sensor, bool restart);
+  void addOdometryEdge(size_t newer, bool restart);
   void checkLoops(size_t keyframe);
+  bool checkLoop(size_t older, size_t current, const Keyframe& newer, double radius);
+  void coarsen(Keyframe& keyframe) const;
   void optimize();
   NdtMap window() const;
 
@@ -82,6 +92,7 @@ class LoopClosure {
   std::vector<Eigen::Isometry3d> scan_odometry_;
   Matrix6d segment_covariance_ = Matrix6d::Zero();  ///< scans' registrations since the anchor
   double path_ = 0, path_at_closure_ = 0;
+  int lost_in_a_row_ = 0;
   LoopClosureReport report_;
 };
 

@@ -27,7 +27,8 @@ void writeStep(apps::JsonWriter& j, const SlamScan& s) {
   j.field("judged_fraction", st.registration.judged_fraction);
   j.field("free_fraction", st.registration.free_fraction);
   j.field("weak_directions", st.weak_directions);
-  j.field("correction_m", (st.pose.translation() - st.prediction.translation()).norm());
+  // Registration's correction, in odometry's frame (before any loop closure moved the pose).
+  j.field("correction_m", (s.odometry.translation() - st.prediction.translation()).norm());
   j.field("sigma_xyz_m",
           std::sqrt(std::max(0.0, st.registration.covariance.topLeftCorner<3, 3>().trace())));
   j.field("target_seconds", st.target_seconds);
@@ -50,6 +51,7 @@ void writeLoops(apps::JsonWriter& j, const LoopClosureReport& l, double rebuild_
   j.field("accepted", l.accepted);
   j.field("rejected", l.rejected);
   j.field("optimizations", l.optimizations);
+  j.field("restarts", l.restarts);
   j.field("last_optimization_iterations", l.last_optimization.iterations);
   j.field("last_optimization_error_before", l.last_optimization.error_before);
   j.field("last_optimization_error_after", l.last_optimization.error_after);

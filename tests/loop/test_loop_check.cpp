@@ -51,6 +51,7 @@ Keyframe keyframeOf(int first, int last, const Isometry3d& frame) {
     for (const Vector3d& p : scan(i)) world.push_back(pose * p);
     k.submap.insertScan(world, pose.translation(), mapOptions().scan);
   }
+  k.submap = k.submap.coarsened(2);  // as ndtom-slam keeps them: the checks' levels fit
   return k;
 }
 

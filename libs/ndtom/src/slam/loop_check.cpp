@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "localization/ground_thinning.h"
 #include "support/elapsed.h"
 #include "support/option_error.h"
 
@@ -13,6 +14,8 @@ namespace ndtom {
 void validate(const LoopCheckOptions& o) {
   validate(o.registration);
   validate(o.search);
+  if (!(o.ground_thinning >= 1 && o.ground_thinning <= 1000))
+    failOption("loop ground_thinning", o.ground_thinning, "must be in [1, 1000]");
   if (!(o.search_yaw_deg >= 0 && o.search_yaw_deg <= 180))
     failOption("loop search_yaw_deg", o.search_yaw_deg, "must be in [0, 180]");
   for (const auto& [name, value] :
@@ -53,32 +56,71 @@ Matrix6d covarianceInPoseFrame(const Matrix6d& map_covariance, const Eigen::Isom
   return turned(map_covariance, pose.linear().transpose());
 }
 
-LoopChecker::LoopChecker(const LoopCheckOptions& options)
-    : options_(options),
-      search_(fittedToLevels(options.search, options.registration.level_factors),
-              options.registration) {
-  validate(options_);
+namespace {
+
+RegistrationOptions levelling(RegistrationOptions o) {
+  o.level_only = true;
+  o.max_points = 1000;
+  return o;
 }
+
+}  // namespace
+
+LoopChecker::LoopChecker(const LoopCheckOptions& options)
+    : options_((validate(options), options)),
+      search_(fittedToLevels(options.search, options.registration.level_factors),
+              options.registration),
+      leveller_(levelling(options.registration)) {}
 
 LoopChecker::~LoopChecker() = default;
 LoopChecker::LoopChecker(LoopChecker&&) noexcept = default;
 LoopChecker& LoopChecker::operator=(LoopChecker&&) noexcept = default;
 
+RegistrationResult LoopChecker::level(const NdtMap& map, const std::vector<Eigen::Vector3d>& scan,
+                                      RegistrationResult result) {
+  const std::shared_ptr<const MapPyramid> pyramid = search_.registration().pyramid();
+  if (!result.converged || !pyramid || options_.ground_thinning == 1) return result;
+  leveller_.pinPyramid(pyramid, map.revision());
+  const size_t finest = pyramid->size() - 1;
+  const RegistrationResult levelled =
+      leveller_.align(map, scan, result.pose, NdtRegistration::Levels{finest, finest + 1});
+  if (levelled.converged) result.pose = levelled.pose;
+  return result;
+}
+
+RegistrationResult LoopChecker::align(const NdtMap& map, const std::vector<Eigen::Vector3d>& scan,
+                                      const Eigen::Isometry3d& guess) {
+  const auto thinned = tracking::thinGround(scan, options_.ground_thinning);
+  return level(map, scan, search_.registration().align(map, thinned, guess));
+}
+
+// A search's winner registered again as every check is; an ambiguous or failed search fails.
+RegistrationResult LoopChecker::refined(const NdtMap& map, const std::vector<Eigen::Vector3d>& scan,
+                                        const GlobalLocalizationResult& found) {
+  if (found.found) return align(map, scan, found.best.pose);
+  RegistrationResult failed = found.best;
+  failed.converged = false;
+  failed.failure = found.failure.empty() ? "the search found nothing" : found.failure;
+  return failed;
+}
+
 RegistrationResult LoopChecker::forward(const Keyframe& older, const Keyframe& newer,
                                         const Eigen::Isometry3d& guess, double radius,
                                         double max_local_radius, LoopCheck& out) {
   const Eigen::Isometry3d start = older.anchor * guess;  // newer's anchor in older's frame
+  const std::vector<Eigen::Vector3d>& scan = newer.anchor_scan;
   if (radius > max_local_radius) {
-    out.found_by = "global search";
-    return search_.localize(older.submap, newer.anchor_scan).best;
+    out.found_by = "global search";  // needs the scan's ground: every point
+    return refined(older.submap, scan, search_.localize(older.submap, scan));
   }
   out.found_by = "guess";
-  RegistrationResult r = search_.registration().align(older.submap, newer.anchor_scan, start);
+  RegistrationResult r = align(older.submap, scan, start);
   if (r.converged) return r;
   out.found_by = "local search";
-  return search_
-      .searchAround(older.submap, newer.anchor_scan, start, radius, options_.search_yaw_deg)
-      .best;
+  const auto thinned = tracking::thinGround(scan, options_.ground_thinning);
+  return refined(
+      older.submap, scan,
+      search_.searchAround(older.submap, thinned, start, radius, options_.search_yaw_deg));
 }
 
 LoopCheck LoopChecker::check(const Keyframe& older, const Keyframe& newer,
@@ -95,8 +137,7 @@ LoopCheck LoopChecker::check(const Keyframe& older, const Keyframe& newer,
     if (out.forward.converged) {
       out.relative = older.anchor.inverse() * out.forward.pose;
       // The older anchor where the forward result puts it in the newer one's frame.
-      out.backward = search_.registration().align(newer.submap, older.anchor_scan,
-                                                  newer.anchor * out.relative.inverse());
+      out.backward = align(newer.submap, older.anchor_scan, newer.anchor * out.relative.inverse());
     }
   } catch (const std::invalid_argument& e) {  // a scan without usable points
     out.rejection = e.what();
