@@ -51,7 +51,9 @@ void LoopClosure::commit(OnlineMapper& mapper, OnlineStep& step,
   if (!scan_odometry_.empty())
     path_ += (scan_odometry_.back().translation() - step.pose.translation()).norm();
   lost_in_a_row_ = step.outcome == OnlineOutcome::Lost ? lost_in_a_row_ + 1 : 0;
-  const bool restart = lost_in_a_row_ >= options_.restart_after_lost;
+  // Only once the live map is a window: before, it holds every scan, as without loop closure.
+  const bool restart =
+      lost_in_a_row_ >= options_.restart_after_lost && keyframes_.size() >= options_.window;
   if (restart) {  // placed and inserted at its prediction: the map follows the robot again
     step.outcome = OnlineOutcome::First;
     step.found_by = "restart after lost scans";
@@ -65,6 +67,13 @@ void LoopClosure::commit(OnlineMapper& mapper, OnlineStep& step,
   mapper.commit(step, points_map, origin_map);
   scan_keyframe_.push_back(keyframes_.size() - 1);
   scan_odometry_.push_back(step.pose);
+  const bool searched =
+      step.outcome == OnlineOutcome::Recovered || step.outcome == OnlineOutcome::Lost || restart;
+  if (searched && scan_odometry_.size() > 1) {
+    keyframes_.back().consistent = false;
+    segment_covariance_ +=
+        diagonal(options_.recovered_sigma_m, options_.recovered_sigma_deg * M_PI / 180);
+  }
   if (!step.inserted) return;
   Keyframe& k = keyframes_.back();
   ScanOptions scan = map_options_.scan;
@@ -137,8 +146,10 @@ void LoopClosure::checkLoops(size_t current) {
   const double radius =
       loopSearchRadius(options_.search, keyframes_[current].path_length - path_at_closure_);
   std::vector<size_t> candidates;
+  if (!keyframes_[current].consistent) return;
   for (const size_t older : loopCandidates(options_.search, places, current, radius))
-    if (older + options_.window <= current) candidates.push_back(older);
+    if (older + options_.window <= current && keyframes_[older].consistent)
+      candidates.push_back(older);
   if (candidates.empty()) return;
   Keyframe newer = keyframes_[current];
   coarsen(newer);

@@ -81,6 +81,7 @@ int run(const SlamOptions& o) {
   out.writeBytes("trajectory", ".tum", trajectoryTum(result));
   if (result.loops) {
     out.writeBytes("pose graph", ".graph", result.loops->graph_text);
+    out.writeBytes("odometry", ".odometry.tum", odometryTum(result));
     if (m.pictures) {
       const apps::HeightScale scale{map.renderOptions.color_min_z, map.renderOptions.color_max_z};
       out.writeBytes(

@@ -59,6 +59,9 @@ void writeLoops(apps::JsonWriter& j, const LoopClosureReport& l, double rebuild_
   j.field("optimize_seconds", l.optimize_seconds);
   j.field("window_seconds", l.window_seconds);
   j.field("rebuild_seconds", rebuild_seconds);
+  j.beginArray("keyframe_first_scans");
+  for (const size_t f : l.keyframe_first_scan) j.field("", f);
+  j.endArray();
   j.beginArray("checks");
   for (const LoopRecord& r : l.loops) {
     j.beginObject();
@@ -92,6 +95,13 @@ void writeError(apps::JsonWriter& j, const char* name, const std::string& file,
 }
 
 }  // namespace
+
+std::string odometryTum(const SlamResult& result) {
+  std::string text;
+  Eigen::Isometry3d unused;
+  for (const SlamScan& s : result.scans) text += tumLine(s.step.time, s.odometry, &unused) + "\n";
+  return text;
+}
 
 std::string trajectoryTum(const SlamResult& result) {
   std::string text;

@@ -15,6 +15,8 @@ namespace ndtom::slam {
 
 /// One line per scan, lost ones at their predicted pose (line i is scan i).
 std::string trajectoryTum(const SlamResult& result);
+/// The same before the pose graph's optimization (odometry alone), with loop closure.
+std::string odometryTum(const SlamResult& result);
 
 struct SlamSummary {
   const SlamOptions* options = nullptr;

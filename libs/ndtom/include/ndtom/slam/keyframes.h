@@ -34,6 +34,10 @@ struct Keyframe {
   std::vector<Eigen::Vector3d> anchor_scan;  ///< the first scan, sensor frame
   NdtMap submap;                             ///< its scans, odometry frame
   size_t scans = 0;                          ///< inserted into the submap
+  /// Odometry placed all its scans by tracking. A scan recovered by a search or lost may sit
+  /// off the others (city: the run's second scan, recovered 1.1 m off its first), so the
+  /// anchor may not fit the submap: such a keyframe anchors no loop.
+  bool consistent = true;
 };
 
 }  // namespace ndtom

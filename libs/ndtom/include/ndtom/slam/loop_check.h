@@ -38,9 +38,9 @@ struct LoopCheckOptions {
   double max_disagreement_m = 0.3;
   double max_disagreement_deg = 1.5;
   /// ... and within the chi-square bound of their covariances plus `covariance_floor_*`
-  /// (σ; Default: 0.05 m, 0.5°: the NDT covariance treats points as independent).
+  /// (σ; Default: 0.05 m, 0.1°: the NDT covariance treats points as independent).
   double covariance_floor_m = 0.05;
-  double covariance_floor_deg = 0.5;
+  double covariance_floor_deg = 0.1;
   double max_chi2 = 16.81;  ///< 6 degrees of freedom, 99 %
   /// Neither registration may leave a translation direction with σ above this (Default: 0.1 m).
   double max_sigma_m = 0.1;
