@@ -147,7 +147,9 @@ void LoopClosure::checkLoops(size_t current) {
       loopSearchRadius(options_.search, keyframes_[current].path_length - path_at_closure_);
   std::vector<size_t> candidates;
   if (!keyframes_[current].consistent) return;
-  for (const size_t older : loopCandidates(options_.search, places, current, radius))
+  // A submap spans a keyframe's length: anchors that far apart still overlap.
+  const double reach = radius + options_.keyframes.distance;
+  for (const size_t older : loopCandidates(options_.search, places, current, reach))
     if (older + options_.window <= current && keyframes_[older].consistent)
       candidates.push_back(older);
   if (candidates.empty()) return;
