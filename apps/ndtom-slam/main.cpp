@@ -4,8 +4,10 @@
 #include <chrono>
 #include <cstdio>
 
+#include "loop_picture.h"
 #include "ndtom_apps/map_outputs.h"
 #include "ndtom_apps/oblique_view.h"
+#include "ndtom_apps/png_bytes.h"
 #include "ndtom_apps/process_clock.h"
 #include "ndtom_apps/process_memory.h"
 #include "ndtom_apps/run_budget.h"
@@ -22,14 +24,15 @@ namespace apps = ndtom::apps;
 namespace {
 
 // The ATE of the run against --reference (pose i of the file = scan i, or by time stamp).
-std::optional<ndtom::TrajectoryError> referenceError(const SlamOptions& o, const SlamResult& r) {
+std::optional<ndtom::TrajectoryError> referenceError(const SlamOptions& o, const SlamResult& r,
+                                                     bool odometry = false) {
   if (o.reference_file.empty()) return std::nullopt;
   const apps::TrajectoryPoses reference(o.reference_file, ndtom::io::PoseFormat::Auto, 0.02);
   std::vector<Eigen::Vector3d> estimate, truth;
   for (size_t i = 0; i < r.scans.size(); ++i) {
     try {
       truth.push_back(reference.poseFor(i, r.scans[i].step.time).translation());
-      estimate.push_back(r.scans[i].step.pose.translation());
+      estimate.push_back((odometry ? r.scans[i].odometry : r.scans[i].step.pose).translation());
     } catch (const std::exception&) {  // no reference pose for this scan: left out
     }
   }
@@ -55,13 +58,18 @@ int run(const SlamOptions& o) {
   online.placement.registration.threads = insertion.scan.threads;
 
   apps::Progress progress(!m.quiet);
-  SlamResult result = runOnline(*source, online, progress);
+  SlamResult result = runOnline(*source, online, o.loops, progress);
   if (result.scans.empty()) throw apps::InputError(m.input + ": no scans");
+  if (result.loops) {  // the exact map: every scan again, at its optimized pose
+    auto again = apps::openScanSource(settings);
+    rebuildAtOptimizedPoses(*again, online, result, progress);
+  }
   if (result.points.pointsUsed() == 0)
     throw apps::InputError(m.input + ": no usable point in " + std::to_string(result.scans.size()) +
                            " scans (see --min-range, --max-range)");
   apps::StageTimes times(start);
   times.add("map", result.seconds);
+  if (result.loops) times.add("rebuild", result.rebuild_seconds);
 
   // ndtom-map's outputs, then the trajectory and the summary.
   mrpt_ndtom::CNDTOccupancyMap map(insertion.resolution);
@@ -69,14 +77,26 @@ int run(const SlamOptions& o) {
   map.renderOptions = apps::renderOptionsFor(result.map, apps::heightScaleOf(result.map),
                                              m.max_ellipsoids, m.ellipsoid_detail);
   map.setNdtMap(std::move(result.map));
-  ndtom::mapper::writeMapOutputs(map, result.sensor_path, ndtom::mapper::outputSettingsFor(m, insertion), out, times);
+  ndtom::mapper::writeMapOutputs(map, result.sensor_path,
+                                 ndtom::mapper::outputSettingsFor(m, insertion), out, times);
   out.writeBytes("trajectory", ".tum", trajectoryTum(result));
+  if (result.loops) {
+    out.writeBytes("pose graph", ".graph", result.loops->graph_text);
+    out.writeBytes("odometry", ".odometry.tum", odometryTum(result));
+    if (m.pictures) {
+      const apps::HeightScale scale{map.renderOptions.color_min_z, map.renderOptions.color_max_z};
+      out.writeBytes(
+          "loop closures", ".loops.png",
+          apps::pngBytes(loopClosurePicture(map.ndtMap(), scale, result, m.image_width)));
+    }
+  }
   SlamSummary summary;
   summary.options = &o;
   summary.source_description = source->description();
   summary.result = &result;
   summary.map = &map.ndtMap();
   summary.reference_error = referenceError(o, result);
+  if (result.loops) summary.odometry_reference_error = referenceError(o, result, true);
   summary.files = out.files();
   summary.files.push_back({"summary", m.prefix + ".summary.json"});
   summary.peak_rss = apps::peakRssBytes();

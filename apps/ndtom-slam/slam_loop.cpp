@@ -27,11 +27,25 @@ std::string tumLine(double time, const Eigen::Isometry3d& pose, Eigen::Isometry3
   return line;
 }
 
+namespace {
+
+// Each scan at its optimized pose, rounded to what PREFIX.tum holds.
+void useOptimizedPoses(const LoopClosure& closure, SlamResult& out) {
+  for (size_t i = 0; i < out.scans.size(); ++i) {
+    SlamScan& s = out.scans[i];
+    s.tum_line = tumLine(s.step.time, closure.optimizedPose(i), &s.step.pose);
+  }
+}
+
+}  // namespace
+
 SlamResult runOnline(apps::ScanSource& source, const ndtom::OnlineMapperOptions& options,
-                     apps::Progress& progress) {
+                     const LoopClosureOptions& loops, apps::Progress& progress) {
   const auto start = std::chrono::steady_clock::now();
   SlamResult out;
   ndtom::OnlineMapper mapper(options);
+  std::optional<LoopClosure> closure;
+  if (loops.enabled) closure.emplace(loops, options.map, options.threads);
   std::optional<Eigen::Isometry3d> last_odometry;
   size_t points_done = 0;
   progress.start("mapping", source.size());
@@ -46,10 +60,15 @@ SlamResult runOnline(apps::ScanSource& source, const ndtom::OnlineMapperOptions&
       out.odometry_used = true;
     }
     try {
-      record.step = mapper.locate(apps::pointsInFrame(*scan), scan->time, odometry);
+      const std::vector<Eigen::Vector3d> points = apps::pointsInFrame(*scan);
+      record.step = mapper.locate(points, scan->time, odometry);
       record.tum_line = tumLine(scan->time, record.step.pose, &record.step.pose);
+      record.odometry = record.step.pose;
       apps::placeAt(*scan, record.step.pose);
-      mapper.commit(record.step, scan->points_world, scan->sensor_origin);
+      if (closure)
+        closure->commit(mapper, record.step, points, scan->points_world, scan->sensor_origin);
+      else
+        mapper.commit(record.step, scan->points_world, scan->sensor_origin);
     } catch (const ndtom::MemoryBudgetError& e) {
       throw apps::InputError(scan->name + ": " + e.what());
     } catch (const std::invalid_argument& e) {
@@ -66,8 +85,46 @@ SlamResult runOnline(apps::ScanSource& source, const ndtom::OnlineMapperOptions&
   progress.finish();
   out.skips = source.skips();
   out.map = mapper.takeMap();
+  if (closure) {
+    closure->finish();
+    useOptimizedPoses(*closure, out);
+    out.loops = closure->report();
+  }
   out.seconds = apps::secondsSince(start);
   return out;
+}
+
+void rebuildAtOptimizedPoses(apps::ScanSource& source, const ndtom::OnlineMapperOptions& options,
+                             SlamResult& result, apps::Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  ndtom::NdtMap map(options.map);
+  ScanOptions scan_options = options.map.scan;
+  scan_options.threads = options.threads;
+  result.points = {};
+  result.sensor_path.clear();
+  size_t i = 0, points_done = 0;
+  progress.start("rebuilding at the optimized poses", result.scans.size());
+  while (auto scan = source.next()) {
+    if (i >= result.scans.size())
+      throw apps::InputError("the input gave more scans when read again");
+    SlamScan& s = result.scans[i++];
+    points_done += scan->points_world.size();
+    if (s.step.inserted) {
+      apps::placeAt(*scan, s.step.pose);
+      try {
+        result.points += map.insertScan(scan->points_world, scan->sensor_origin, scan_options);
+      } catch (const ndtom::MemoryBudgetError& e) {
+        throw apps::InputError(scan->name + ": " + e.what());
+      }
+      result.sensor_path.push_back(scan->sensor_origin);
+    }
+    progress.update(i, points_done);
+  }
+  progress.finish();
+  if (i != result.scans.size())
+    throw apps::InputError("the input gave fewer scans when read again");
+  result.map = std::move(map);
+  result.rebuild_seconds = apps::secondsSince(start);
 }
 
 }  // namespace ndtom::slam

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "loop_closure.h"
 #include "ndtom/online/online_mapper.h"
 #include "ndtom_apps/progress.h"
 #include "ndtom_apps/scan_source.h"
@@ -15,9 +16,10 @@ namespace ndtom::slam {
 
 struct SlamScan {
   std::string name;
-  size_t points = 0;      ///< read
-  ndtom::OnlineStep step;  ///< pose as PREFIX.tum holds it
-  std::string tum_line;   ///< "t x y z qx qy qz qw"
+  size_t points = 0;       ///< read
+  ndtom::OnlineStep step;  ///< pose as PREFIX.tum holds it (after optimization, with loops)
+  Eigen::Isometry3d odometry = Eigen::Isometry3d::Identity();  ///< before optimization
+  std::string tum_line;                                        ///< "t x y z qx qy qz qw"
 };
 
 struct SlamResult {
@@ -27,14 +29,21 @@ struct SlamResult {
   std::vector<Eigen::Vector3d> sensor_path;  ///< sensor origins of the inserted scans
   bool odometry_used = false;
   apps::SourceSkips skips;
-  double seconds = 0;  ///< the whole loop, reading included
+  double seconds = 0;                      ///< the whole loop, reading included
+  std::optional<LoopClosureReport> loops;  ///< with loop closure
+  double rebuild_seconds = 0;  ///< the exact map at the optimized poses (reading included)
   size_t count(ndtom::OnlineOutcome outcome) const;
 };
 
 /// Maps every scan of `source` without its poses. Throws apps::InputError for unreadable data
 /// or a scan the map cannot take (memory budget, time going backwards), naming the scan.
 SlamResult runOnline(apps::ScanSource& source, const ndtom::OnlineMapperOptions& options,
-                     apps::Progress& progress);
+                     const LoopClosureOptions& loops, apps::Progress& progress);
+
+/// With loop closure: the map made again from `source` (the same scans, read again), each
+/// inserted at its optimized pose as the mapper would (what ndtom-map --poses does).
+void rebuildAtOptimizedPoses(apps::ScanSource& source, const ndtom::OnlineMapperOptions& options,
+                             SlamResult& result, apps::Progress& progress);
 
 /// "t x y z qx qy qz qw" with every number printed so that it reads back bit for bit, and
 /// the pose those numbers stand for (what ndtom-map --poses will use).

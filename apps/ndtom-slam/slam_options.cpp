@@ -72,6 +72,33 @@ const apps::OptionTable<SlamOptions>& optionTable() {
         [](O& o, const std::string& v) {
           o.online.placement.registration.min_matched_fraction = parseReal("--min-matched-fraction", v);
         }}},
+      {"--loop-closure",
+       {true,
+        [](O& o, const std::string& v) {
+          if (v != "on" && v != "off")
+            throw UsageError("--loop-closure: expected on or off, got '" + v + "'");
+          o.loops.enabled = v == "on";
+        }}},
+      {"--keyframe-distance",
+       {true,
+        [](O& o, const std::string& v) {
+          o.loops.keyframes.distance = parseReal("--keyframe-distance", v);
+        }}},
+      {"--loop-radius",
+       {true,
+        [](O& o, const std::string& v) {
+          o.loops.search.base_radius = parseReal("--loop-radius", v);
+        }}},
+      {"--loop-drift",
+       {true,
+        [](O& o, const std::string& v) {
+          o.loops.search.drift_per_metre = parseReal("--loop-drift", v);
+        }}},
+      {"--loop-local-radius",
+       {true,
+        [](O& o, const std::string& v) {
+          o.loops.search.max_local_radius = parseReal("--loop-local-radius", v);
+        }}},
       {"--reference", {true, [](O& o, const std::string& v) { o.reference_file = v; }}},
   };
   return table;
@@ -200,6 +227,7 @@ SlamOptions parseSlamOptions(int argc, char** argv) {
     OnlineMapperOptions check = o.online;
     check.map = ndtom::MapOptions{};
     ndtom::validate(check);
+    validate(o.loops);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
@@ -250,6 +278,14 @@ std::string helpText() {
        "                            keep the prediction (0.1)\n"
        "  --threads N               threads of registration and insertion: the map's\n"
        "                            --threads key (same result for any count)\n"
+       "\n"
+       "Loop closure (keyframes, a pose graph optimized by MRPT's mrpt-graphslam):\n"
+       "  --loop-closure on|off     off: odometry only, the live map holds every scan (off;\n"
+       "                            on: keyframes, loop closure, MRPT's graph optimizer)\n"
+       "  --keyframe-distance M     a keyframe every M metres or 30 degrees of turn (10)\n"
+       "  --loop-radius M           loop candidates within M metres of the graph's pose ...\n"
+       "  --loop-drift F            ... plus F times the path since the last closure (2, 0.01)\n"
+       "  --loop-local-radius M     past this radius the old submap is searched whole (6)\n"
        "\n"
        "Evaluation:\n"
        "  --reference FILE          trajectory to compare with (TUM or KITTI, pose i = scan i):\n"

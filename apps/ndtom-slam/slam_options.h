@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "loop_closure.h"
 #include "ndtom/online/online_mapper.h"
 #include "ndtom_apps/mapper_options.h"
 
@@ -16,6 +17,8 @@ struct SlamOptions {
   mapper::MapperOptions map;  ///< input, --config and map keys, outputs
   /// Registration and recovery (resolution, threads and the map come from `map`).
   ndtom::OnlineMapperOptions online;
+  /// Keyframes, loop candidates and the pose graph (--loop-closure off: odometry only).
+  LoopClosureOptions loops;
   /// A trajectory to compare with (TUM or KITTI): ATE after alignment in the summary.
   std::string reference_file;
   bool help = false;

@@ -27,8 +27,10 @@ void writeStep(apps::JsonWriter& j, const SlamScan& s) {
   j.field("judged_fraction", st.registration.judged_fraction);
   j.field("free_fraction", st.registration.free_fraction);
   j.field("weak_directions", st.weak_directions);
-  j.field("correction_m", (st.pose.translation() - st.prediction.translation()).norm());
-  j.field("sigma_xyz_m", std::sqrt(std::max(0.0, st.registration.covariance.topLeftCorner<3, 3>().trace())));
+  // Registration's correction, in odometry's frame (before any loop closure moved the pose).
+  j.field("correction_m", (s.odometry.translation() - st.prediction.translation()).norm());
+  j.field("sigma_xyz_m",
+          std::sqrt(std::max(0.0, st.registration.covariance.topLeftCorner<3, 3>().trace())));
   j.field("target_seconds", st.target_seconds);
   j.field("locate_seconds", st.locate_seconds);
   j.field("insert_seconds", st.insert_seconds);
@@ -42,7 +44,64 @@ std::vector<double> scanSeconds(const SlamResult& r) {
   return v;
 }
 
+void writeLoops(apps::JsonWriter& j, const LoopClosureReport& l, double rebuild_seconds) {
+  j.beginObject("loop_closure");
+  j.field("keyframes", l.anchors_odometry.size());
+  j.field("candidates_checked", l.loops.size());
+  j.field("accepted", l.accepted);
+  j.field("rejected", l.rejected);
+  j.field("optimizations", l.optimizations);
+  j.field("restarts", l.restarts);
+  j.field("last_optimization_iterations", l.last_optimization.iterations);
+  j.field("last_optimization_error_before", l.last_optimization.error_before);
+  j.field("last_optimization_error_after", l.last_optimization.error_after);
+  j.field("check_seconds", l.check_seconds);
+  j.field("optimize_seconds", l.optimize_seconds);
+  j.field("window_seconds", l.window_seconds);
+  j.field("rebuild_seconds", rebuild_seconds);
+  j.beginArray("keyframe_first_scans");
+  for (const size_t f : l.keyframe_first_scan) j.field("", f);
+  j.endArray();
+  j.beginArray("checks");
+  for (const LoopRecord& r : l.loops) {
+    j.beginObject();
+    j.field("older_keyframe", r.older);
+    j.field("newer_keyframe", r.newer);
+    j.field("older_scan", l.keyframe_first_scan[r.older]);
+    j.field("newer_scan", l.keyframe_first_scan[r.newer]);
+    j.field("accepted", r.check.accepted);
+    j.field("found_by", r.check.found_by);
+    if (!r.check.accepted) j.field("rejection", r.check.rejection);
+    j.field("disagreement_m", r.check.disagreement_m);
+    j.field("disagreement_deg", r.check.disagreement_deg);
+    j.field("chi2", r.check.chi2);
+    j.field("seconds", r.check.seconds);
+    j.endObject();
+  }
+  j.endArray();
+  j.endObject();
+}
+
+void writeError(apps::JsonWriter& j, const char* name, const std::string& file,
+                const ndtom::TrajectoryError& e) {
+  j.beginObject(name);
+  j.field("file", file);
+  j.field("ate_rmse_m", e.rmse);
+  j.field("ate_max_m", e.max);
+  j.field("final_error_m", e.final);
+  j.field("path_length_m", e.length);
+  j.field("final_error_percent", e.length > 0 ? 100 * e.final / e.length : 0.0);
+  j.endObject();
+}
+
 }  // namespace
+
+std::string odometryTum(const SlamResult& result) {
+  std::string text;
+  Eigen::Isometry3d unused;
+  for (const SlamScan& s : result.scans) text += tumLine(s.step.time, s.odometry, &unused) + "\n";
+  return text;
+}
 
 std::string trajectoryTum(const SlamResult& result) {
   std::string text;
@@ -87,17 +146,10 @@ std::string summaryJson(const SlamSummary& s) {
   const std::vector<double> seconds = scanSeconds(r);
   j.field("scan_seconds_median", apps::quantile(seconds, 0.5));
   j.field("scans_per_second", r.seconds > 0 ? double(r.scans.size()) / r.seconds : 0.0);
-  if (s.reference_error) {
-    j.beginObject("reference");
-    j.field("file", s.options->reference_file);
-    j.field("ate_rmse_m", s.reference_error->rmse);
-    j.field("ate_max_m", s.reference_error->max);
-    j.field("final_error_m", s.reference_error->final);
-    j.field("path_length_m", s.reference_error->length);
-    j.field("final_error_percent",
-            s.reference_error->length > 0 ? 100 * s.reference_error->final / s.reference_error->length : 0.0);
-    j.endObject();
-  }
+  if (s.reference_error) writeError(j, "reference", s.options->reference_file, *s.reference_error);
+  if (s.odometry_reference_error)
+    writeError(j, "odometry_reference", s.options->reference_file, *s.odometry_reference_error);
+  if (r.loops) writeLoops(j, *r.loops, r.rebuild_seconds);
   j.field("loop_seconds", r.seconds);
   j.field("total_seconds", s.total_seconds);
   j.field("peak_rss_bytes", s.peak_rss);
@@ -117,7 +169,8 @@ std::string summaryText(const SlamSummary& s) {
   char line[256];
   std::snprintf(line, sizeof(line),
                 "ndtom-slam: %zu scans: %zu tracked, %zu recovered, %zu lost (prediction: %s)\n",
-                r.scans.size(), r.count(ndtom::OnlineOutcome::Tracked) + r.count(ndtom::OnlineOutcome::First),
+                r.scans.size(),
+                r.count(ndtom::OnlineOutcome::Tracked) + r.count(ndtom::OnlineOutcome::First),
                 r.count(ndtom::OnlineOutcome::Recovered), r.count(ndtom::OnlineOutcome::Lost),
                 r.odometry_used ? "odometry" : "constant velocity");
   t << line;
@@ -133,6 +186,22 @@ std::string summaryText(const SlamSummary& s) {
                   "  against %s: ATE %.3f m RMSE, %.3f m max, final %.3f m (%.2f %% of %.1f m)\n",
                   s.options->reference_file.c_str(), e.rmse, e.max, e.final,
                   e.length > 0 ? 100 * e.final / e.length : 0.0, e.length);
+    t << line;
+  }
+  if (r.loops) {
+    const LoopClosureReport& l = *r.loops;
+    std::snprintf(line, sizeof(line),
+                  "  loop closure: %zu keyframes, %zu loops accepted, %zu candidates rejected; "
+                  "checks %.1f s, graph %.2f s, exact map rebuilt in %.1f s\n",
+                  l.anchors_odometry.size(), l.accepted, l.rejected, l.check_seconds,
+                  l.optimize_seconds, r.rebuild_seconds);
+    t << line;
+  }
+  if (s.odometry_reference_error) {
+    const ndtom::TrajectoryError& e = *s.odometry_reference_error;
+    std::snprintf(line, sizeof(line),
+                  "  odometry before optimization: ATE %.3f m RMSE, %.3f m max, final %.3f m\n",
+                  e.rmse, e.max, e.final);
     t << line;
   }
   std::snprintf(line, sizeof(line), "  %.1f s in all, peak memory %.0f MB; budget %.0f MB (%s)\n",

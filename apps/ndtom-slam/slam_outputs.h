@@ -16,6 +16,8 @@ namespace ndtom::slam {
 
 /// One line per scan, lost ones at their predicted pose (line i is scan i).
 std::string trajectoryTum(const SlamResult& result);
+/// The same before the pose graph's optimization (odometry alone), with loop closure.
+std::string odometryTum(const SlamResult& result);
 
 struct SlamSummary {
   const SlamOptions* options = nullptr;
@@ -23,6 +25,8 @@ struct SlamSummary {
   const SlamResult* result = nullptr;
   const ndtom::NdtMap* map = nullptr;  ///< the map written (moved out of the result)
   std::optional<ndtom::TrajectoryError> reference_error;  ///< with --reference
+  /// With loop closure and --reference: the odometry's, before optimization.
+  std::optional<ndtom::TrajectoryError> odometry_reference_error;
   double total_seconds = 0;
   size_t peak_rss = 0;
   mapper::RunBudget budget;  ///< the map's memory budget and why

@@ -46,6 +46,7 @@ CityWorld::CityWorld(const CityLayout& l) : layout_(l) {
   const double half_street = l.street_width / 2, inner = l.block_pitch - l.street_width;
   for (int bx = 0; bx < l.blocks_x; ++bx)
     for (int by = 0; by < l.blocks_y; ++by) {
+      if (l.identical_blocks) rng.seed(l.seed);
       const double x0 = bx * l.block_pitch + half_street, y0 = by * l.block_pitch + half_street;
       const int lots_x = 2 + int(rng() % 2), lots_y = 2 + int(rng() % 2);
       const double lot_w = inner / lots_x, lot_d = inner / lots_y;

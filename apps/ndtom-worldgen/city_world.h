@@ -23,6 +23,9 @@ struct CityLayout {
   double block_pitch = 80;         ///< (m) from one street's centre line to the next
   double street_width = 20;        ///< (m) curb to curb
   uint64_t seed = 1;
+  /// Every block the same (the same lots, parks, poles and cars): look-alike streets, where
+  /// a loop closure must not take one street for another.
+  bool identical_blocks = false;
 };
 
 class CityWorld {

@@ -161,6 +161,8 @@ WorldOptions parseWorldOptions(int argc, const char* const argv[]) {
           w.city.seed = w.route.seed = w.lidar.seed =
               uint64_t(parseInteger("--seed", v, 0, INT64_MAX));
         }}},
+      {"--identical-blocks",
+       {false, [](WorldOptions& w, const std::string&) { w.city.identical_blocks = true; }}},
       {"--noise-seed",
        {true,
         [](WorldOptions& w, const std::string& v) {
@@ -238,6 +240,7 @@ std::string worldHelpText() {
          "                       keeps off the outer streets, city on every side\n"
          "  --seed N             world, route and noise (1)\n"
          "  --noise-seed N       the noise only: another drive of the same streets (--seed)\n"
+         "  --identical-blocks   every block the same: look-alike streets\n"
          "  --rings N            lidar rings, -25..+15 deg (32)\n"
          "  --azimuth-steps N    rays per ring per turn (900)\n"
          "  --max-range R        [m] (80); rays reaching nothing give no point\n"

@@ -122,6 +122,15 @@ void drawPath(const std::vector<Eigen::Vector3d>& path, const std::vector<cv::Sc
   cv::circle(view, pixels.front(), 3, cv::Scalar(255, 255, 255), cv::FILLED, cv::LINE_AA);
 }
 
+void drawLinks(const ColouredPath& path, const Frame& f, cv::Mat& view) {
+  for (const auto& [a, b] : path.links) {
+    const cv::Point2d pa = f.toPixel(a.x(), a.y()), pb = f.toPixel(b.x(), b.y());
+    cv::line(view, pa, pb, path.link_colour, 2, cv::LINE_AA);
+    cv::circle(view, pa, 4, path.link_colour, cv::FILLED, cv::LINE_AA);
+    cv::circle(view, pb, 4, path.link_colour, cv::FILLED, cv::LINE_AA);
+  }
+}
+
 }  // namespace
 
 cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale,
@@ -142,6 +151,7 @@ cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale, const 
     cv::polylines(view, f.toPixels(path.reference), false, cv::Scalar(110, 110, 110), 1,
                   cv::LINE_AA);
   drawPath(path.points, path.colours, f, view);
+  drawLinks(path, f, view);
   apps::drawScaleBar(view, f.pixels_per_metre);
   char title[160];
   std::snprintf(title, sizeof title, "NDT-OM, top view: %zu occupied Gaussians, %g m cells", drawn,

@@ -89,10 +89,21 @@ NdtMap OnlineMapper::takeMap() {
   return out;
 }
 
+void OnlineMapper::replaceMap(NdtMap map) {
+  if (map.options().resolution != options_.map.resolution)
+    throw std::invalid_argument("OnlineMapper::replaceMap: resolution " +
+                                std::to_string(map.options().resolution) + " m, the mapper's is " +
+                                std::to_string(options_.map.resolution) + " m");
+  map_ = std::move(map);
+  tracking_->target = online::RegistrationTarget{};
+  tracking_->registering = map_.numGaussians() > 0;
+}
+
 OnlineStep OnlineMapper::locate(const std::vector<Eigen::Vector3d>& points, double time,
                                 const std::optional<Eigen::Isometry3d>& odometry) {
   Tracking& t = *tracking_;
-  if (!std::isfinite(time)) throw std::invalid_argument("OnlineMapper: the scan's time is not finite");
+  if (!std::isfinite(time))
+    throw std::invalid_argument("OnlineMapper: the scan's time is not finite");
   if (t.last_time && time < *t.last_time)
     throw std::invalid_argument("OnlineMapper: time goes backwards (" + std::to_string(time) +
                                 " s after " + std::to_string(*t.last_time) + " s)");

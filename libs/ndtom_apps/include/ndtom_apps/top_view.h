@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ndtom/map/ndt_map.h"
@@ -21,9 +22,12 @@ cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale,
 /// A path drawn in colours of its own, e.g. by localization error.
 struct ColouredPath {
   std::vector<Eigen::Vector3d> points;
-  std::vector<cv::Scalar> colours;        ///< of the segment ending at each point (BGR)
+  std::vector<cv::Scalar> colours;         ///< of the segment ending at each point (BGR)
   std::vector<Eigen::Vector3d> reference;  ///< drawn thin and grey beneath, if any
   std::string legend;                      ///< what the colours mean, for the caption
+  /// Pairs of points joined by straight lines on top (loop closures between keyframes).
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> links;
+  cv::Scalar link_colour{255, 0, 255};
 };
 cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale, const ColouredPath& path,
                       int width);

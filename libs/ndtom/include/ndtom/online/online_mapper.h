@@ -106,10 +106,15 @@ class OnlineMapper {
   void commit(OnlineStep& step, const std::vector<Eigen::Vector3d>& points_map,
               const Eigen::Vector3d& sensor_origin_map);
   /// locate() and commit() at the registered pose; `sensor_origin` in the sensor frame.
-  OnlineStep process(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& sensor_origin,
-                     double time, const std::optional<Eigen::Isometry3d>& odometry = std::nullopt);
+  OnlineStep process(const std::vector<Eigen::Vector3d>& points,
+                     const Eigen::Vector3d& sensor_origin, double time,
+                     const std::optional<Eigen::Isometry3d>& odometry = std::nullopt);
 
   const NdtMap& map() const { return map_; }
+  /// Replaces the map scans are registered against and inserted into (same resolution, else
+  /// std::invalid_argument); the registration target is cut again from it. For a window of
+  /// keyframe submaps, so that odometry never registers against its own drifted past.
+  void replaceMap(NdtMap map);
   /// The map, moved out: the mapper is empty after this.
   NdtMap takeMap();
   const OnlineMapperOptions& options() const { return options_; }

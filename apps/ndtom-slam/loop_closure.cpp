@@ -1,0 +1,206 @@
+#include "loop_closure.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace ndtom::slam {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Matrix6d diagonal(double sigma_m, double sigma_rad) {
+  Matrix6d c = Matrix6d::Zero();
+  c.diagonal() << Eigen::Vector3d::Constant(sigma_m * sigma_m),
+      Eigen::Vector3d::Constant(sigma_rad * sigma_rad);
+  return c;
+}
+
+}  // namespace
+
+void validate(const LoopClosureOptions& o) {
+  validate(o.keyframes);
+  validate(o.search);
+  validate(o.check);
+  if (o.restart_after_lost < 1)
+    throw std::invalid_argument(
+        "loop restart_after_lost = " + std::to_string(o.restart_after_lost) + ": must be >= 1");
+  if (!(o.restart_sigma_m > 0 && o.restart_sigma_deg > 0))
+    throw std::invalid_argument("loop restart sigmas: must be > 0");
+  if (o.window < 2)
+    throw std::invalid_argument("loop window = " + std::to_string(o.window) + ": must be >= 2");
+  for (const double v : {o.odometry_sigma_m, o.odometry_sigma_m_per_m, o.odometry_sigma_deg,
+                         o.odometry_sigma_deg_per_m})
+    if (!(v >= 0 && std::isfinite(v)))
+      throw std::invalid_argument("loop odometry sigma: must be finite and >= 0");
+  if (o.odometry_sigma_m <= 0 || o.odometry_sigma_deg <= 0)
+    throw std::invalid_argument("loop odometry sigma: the constant parts must be > 0");
+}
+
+LoopClosure::LoopClosure(const LoopClosureOptions& options, const MapOptions& map, int threads)
+    : options_(options), map_options_(map), threads_(threads), checker_(options.check) {
+  validate(options_);
+}
+
+void LoopClosure::commit(OnlineMapper& mapper, OnlineStep& step,
+                         const std::vector<Eigen::Vector3d>& points_sensor,
+                         const std::vector<Eigen::Vector3d>& points_map,
+                         const Eigen::Vector3d& origin_map) {
+  if (!scan_odometry_.empty())
+    path_ += (scan_odometry_.back().translation() - step.pose.translation()).norm();
+  lost_in_a_row_ = step.outcome == OnlineOutcome::Lost ? lost_in_a_row_ + 1 : 0;
+  // Only once the live map is a window: before, it holds every scan, as without loop closure.
+  const bool restart =
+      lost_in_a_row_ >= options_.restart_after_lost && keyframes_.size() >= options_.window;
+  if (restart) {  // placed and inserted at its prediction: the map follows the robot again
+    step.outcome = OnlineOutcome::First;
+    step.found_by = "restart after lost scans";
+    lost_in_a_row_ = 0;
+    ++report_.restarts;
+  }
+  const bool placed = step.outcome != OnlineOutcome::Lost;
+  if (keyframes_.empty() || restart ||
+      (placed && startsKeyframe(options_.keyframes, keyframes_.back().anchor, step.pose)))
+    startKeyframe(mapper, step, points_sensor, restart);
+  mapper.commit(step, points_map, origin_map);
+  scan_keyframe_.push_back(keyframes_.size() - 1);
+  scan_odometry_.push_back(step.pose);
+  const bool searched =
+      step.outcome == OnlineOutcome::Recovered || step.outcome == OnlineOutcome::Lost || restart;
+  if (searched && scan_odometry_.size() > 1) {
+    keyframes_.back().consistent = false;
+    segment_covariance_ +=
+        diagonal(options_.recovered_sigma_m, options_.recovered_sigma_deg * M_PI / 180);
+  }
+  if (!step.inserted) return;
+  Keyframe& k = keyframes_.back();
+  ScanOptions scan = map_options_.scan;
+  scan.threads = threads_;
+  k.submap.insertScan(points_map, origin_map, scan);
+  ++k.scans;
+  if (step.outcome != OnlineOutcome::First)
+    segment_covariance_ +=
+        covarianceInPoseFrame(step.registration.covariance, k.anchor.inverse() * step.pose);
+}
+
+void LoopClosure::startKeyframe(OnlineMapper& mapper, const OnlineStep& step,
+                                const std::vector<Eigen::Vector3d>& points_sensor, bool restart) {
+  const size_t id = keyframes_.size();
+  if (id > 0) checkLoops(id - 1);  // its submap is complete now
+  Keyframe k(map_options_);
+  k.first_scan = scan_odometry_.size();
+  k.anchor = step.pose;
+  k.path_length = path_;
+  k.anchor_scan = points_sensor;
+  keyframes_.push_back(std::move(k));
+  report_.anchors_odometry.push_back(step.pose);
+  report_.keyframe_first_scan.push_back(keyframes_.back().first_scan);
+  if (id == 0) {
+    graph_.addNode(step.pose);
+    return;
+  }
+  const Keyframe& previous = keyframes_[id - 1];
+  graph_.addNode(graph_.pose(id - 1) * previous.anchor.inverse() * step.pose);
+  addOdometryEdge(id, restart);
+  const auto start = std::chrono::steady_clock::now();
+  mapper.replaceMap(window());
+  if (id >= options_.window) coarsen(keyframes_[id - options_.window]);  // left the window
+  report_.window_seconds += secondsSince(start);
+}
+
+void LoopClosure::addOdometryEdge(size_t newer, bool restart) {
+  const Eigen::Isometry3d relative =
+      keyframes_[newer - 1].anchor.inverse() * keyframes_[newer].anchor;
+  const double d = relative.translation().norm();
+  const double deg = options_.odometry_sigma_deg + options_.odometry_sigma_deg_per_m * d;
+  const Matrix6d model =
+      restart ? diagonal(options_.restart_sigma_m, options_.restart_sigma_deg * M_PI / 180)
+              : diagonal(options_.odometry_sigma_m + options_.odometry_sigma_m_per_m * d,
+                         deg * M_PI / 180);
+  graph_.addEdge(newer - 1, newer, relative, model + segment_covariance_);
+  segment_covariance_.setZero();
+}
+
+// The finished keyframes of the window, merged (RCU): the live map of the next keyframe.
+NdtMap LoopClosure::window() const {
+  const size_t end = keyframes_.size() - 1;  // the new one is still empty
+  const size_t begin = end >= options_.window - 1 ? end - (options_.window - 1) : 0;
+  NdtMap live = keyframes_[end - 1].submap;  // a copy costs less than a merge
+  for (size_t i = begin; i + 1 < end; ++i) live.merge(keyframes_[i].submap);
+  return live;
+}
+
+// Loop checks register on submaps of twice the map's cell (the online mapper's finest
+// level): the old ones are kept so (an eighth of the memory), the newest is coarsened for
+// its check. Keyframes still in the live window stay fine and are never candidates.
+void LoopClosure::coarsen(Keyframe& k) const {
+  if (k.submap.options().resolution == map_options_.resolution) k.submap = k.submap.coarsened(2);
+}
+
+void LoopClosure::checkLoops(size_t current) {
+  std::vector<KeyframePlace> places;
+  for (size_t i = 0; i <= current; ++i)
+    places.push_back({graph_.pose(i).translation(), keyframes_[i].path_length});
+  const double radius =
+      loopSearchRadius(options_.search, keyframes_[current].path_length - path_at_closure_);
+  std::vector<size_t> candidates;
+  if (!keyframes_[current].consistent) return;
+  // A submap spans a keyframe's length: anchors that far apart still overlap.
+  const double reach = radius + options_.keyframes.distance;
+  for (const size_t older : loopCandidates(options_.search, places, current, reach))
+    if (older + options_.window <= current && keyframes_[older].consistent)
+      candidates.push_back(older);
+  if (candidates.empty()) return;
+  Keyframe newer = keyframes_[current];
+  coarsen(newer);
+  bool closed = false;
+  for (const size_t older : candidates) {
+    coarsen(keyframes_[older]);
+    closed |= checkLoop(older, current, newer, radius);
+  }
+  if (closed) {
+    optimize();
+    path_at_closure_ = keyframes_[current].path_length;
+  }
+}
+
+bool LoopClosure::checkLoop(size_t older, size_t current, const Keyframe& newer, double radius) {
+  const auto start = std::chrono::steady_clock::now();
+  const Eigen::Isometry3d guess = graph_.pose(older).inverse() * graph_.pose(current);
+  LoopRecord record{
+      older, current,
+      checker_.check(keyframes_[older], newer, guess, radius, options_.search.max_local_radius)};
+  report_.check_seconds += secondsSince(start);
+  record.check.forward.levels.clear();
+  record.check.backward.levels.clear();
+  const bool accepted = record.check.accepted;
+  if (accepted) graph_.addEdge(older, current, record.check.relative, record.check.covariance);
+  ++(accepted ? report_.accepted : report_.rejected);
+  report_.loops.push_back(std::move(record));
+  return accepted;
+}
+
+void LoopClosure::optimize() {
+  report_.last_optimization = graph_.optimize();
+  report_.optimize_seconds += report_.last_optimization.seconds;
+  ++report_.optimizations;
+}
+
+void LoopClosure::finish() {
+  if (keyframes_.empty()) return;
+  checkLoops(keyframes_.size() - 1);
+  if (report_.accepted > 0) optimize();
+  report_.anchors_optimized.clear();
+  for (size_t i = 0; i < keyframes_.size(); ++i)
+    report_.anchors_optimized.push_back(graph_.pose(i));
+  report_.graph_text = graph_.text();
+}
+
+Eigen::Isometry3d LoopClosure::optimizedPose(size_t index) const {
+  const size_t k = scan_keyframe_.at(index);
+  return graph_.pose(k) * keyframes_[k].anchor.inverse() * scan_odometry_[index];
+}
+
+}  // namespace ndtom::slam
