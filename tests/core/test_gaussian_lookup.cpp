@@ -170,7 +170,7 @@ TEST(GaussianLookup, SparseAndFullBlocksAreIndexedByRank) {
   for (int i = 0; i < 8; ++i)  // block (0, 0, 0), every cell
     for (int j = 0; j < 8; ++j)
       for (int k = 0; k < 8; ++k) cells.insert({i, j, k});
-  for (const int count : {31, 32})  // either side of the dense threshold, every mask word
+  for (const int count : {31, 32})  // blocks of a few dozen Gaussians, every mask word
     for (int k = 0; k < count; ++k) cells.insert({8 * count + k % 8, (3 * k) % 8, k / 4});
   std::mt19937 rng(4);
   std::uniform_int_distribution<int> block(-200, 200), offset(0, 7);
