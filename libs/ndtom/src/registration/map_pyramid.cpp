@@ -97,6 +97,24 @@ void MapPyramid::setMembers(const NdtMap& map, BlockFilter members) {
 
 void MapPyramid::redo(const NdtMap& map, const std::vector<std::vector<CellIndex>>& cells,
                       bool build, const BlockFilter& members) {
+  size_t gaussians = 0;
+  std::vector<std::vector<CellChange>> changes = redoCells(map, cells, members, gaussians);
+  // The levels share what the map's memory budget leaves: a sparse map (a Gaussian a
+  // block) has levels as large as itself. The Gaussians redone are held beside the levels
+  // until they replace them, so they count whole.
+  const uint64_t budget = map.options().scan.memory_budget;
+  const uint64_t need = map.memoryBytes() + (build ? 0 : memoryBytes()) +
+                        gaussians * GaussianLookup::maxBytesPerGaussian();
+  if (need > budget)
+    throw MemoryBudgetError("the registration pyramid (levels " + levelNames(factors_) + ", " +
+                                std::to_string(gaussians) + " Gaussians, beside the map)",
+                            need, budget);
+  putIntoLevels(map, std::move(changes), build);
+}
+
+std::vector<std::vector<CellChange>> MapPyramid::redoCells(
+    const NdtMap& map, const std::vector<std::vector<CellIndex>>& cells, const BlockFilter& members,
+    size_t& gaussians) {
   // Every (level, cell) on its own: threads take runs of them as they go.
   std::vector<CoarseCells> coarse;
   std::vector<std::vector<CellChange>> changes(factors_.size());
@@ -107,38 +125,31 @@ void MapPyramid::redo(const NdtMap& map, const std::vector<std::vector<CellIndex
     starts.push_back(starts.back() + cells[l].size());
   }
   constexpr size_t kCellsPerTake = 256;
-  std::atomic<size_t> next{0};
-  std::atomic<size_t> gaussians{0};
+  std::atomic<size_t> next{0}, found{0};
   const size_t total = starts.back();
   work_->pool.run(std::min(work_->threads, total / kCellsPerTake + 1), [&](size_t) {
-    size_t found = 0;
-    for (;;) {
-      const size_t begin = next.fetch_add(kCellsPerTake, std::memory_order_relaxed);
-      if (begin >= total) break;
+    size_t found_here = 0;
+    for (size_t begin; (begin = next.fetch_add(kCellsPerTake)) < total;)
       for (size_t k = begin; k < std::min(total, begin + kCellsPerTake); ++k) {
         const size_t l =
             size_t(std::upper_bound(starts.begin(), starts.end(), k) - starts.begin()) - 1;
         CellChange& change = changes[l][k - starts[l]];
         change.cell = cells[l][k - starts[l]];
         change.gaussian = coarse[l].gaussian(change.cell);
-        found += change.gaussian.has_value();
+        found_here += change.gaussian.has_value();
       }
-    }
-    gaussians += found;
+    found += found_here;
   });
-  // The levels share what the map's memory budget leaves: a sparse map (a Gaussian a
-  // block) has levels as large as itself. The Gaussians redone are held beside the levels
-  // until they replace them, so they count whole.
-  const uint64_t budget = map.options().scan.memory_budget;
-  const uint64_t need = map.memoryBytes() + (build ? 0 : memoryBytes()) +
-                        gaussians.load() * GaussianLookup::maxBytesPerGaussian();
-  if (need > budget)
-    throw MemoryBudgetError("the registration pyramid (levels " + levelNames(factors_) + ", " +
-                                std::to_string(gaussians.load()) + " Gaussians, beside the map)",
-                            need, budget);
+  gaussians = found.load();
+  return changes;
+}
+
+void MapPyramid::putIntoLevels(const NdtMap& map, std::vector<std::vector<CellChange>> changes,
+                               bool build) {
   if (build) levels_.resize(factors_.size());
-  work_->pool.run(std::min(work_->threads, factors_.size()), [&](size_t t) {
-    for (size_t l = t; l < factors_.size(); l += std::min(work_->threads, factors_.size())) {
+  const size_t threads = std::min(work_->threads, factors_.size());
+  work_->pool.run(threads, [&](size_t t) {
+    for (size_t l = t; l < factors_.size(); l += threads) {
       if (!build) {
         levels_[l]->update(std::move(changes[l]));
         continue;
@@ -149,8 +160,8 @@ void MapPyramid::redo(const NdtMap& map, const std::vector<std::vector<CellIndex
         if (c.gaussian) level.push_back(std::move(*c.gaussian));
       std::vector<CellChange>().swap(changes[l]);
       const LookupOptions options{/*occupied_only=*/true, /*nearest_means=*/false};
-      levels_[l] =
-          std::make_unique<GaussianLookup>(coarse[l].geometry(), std::move(level), options);
+      const GridGeometry geometry(map.options().resolution * factors_[l]);
+      levels_[l] = std::make_unique<GaussianLookup>(geometry, std::move(level), options);
     }
   });
 }

@@ -59,6 +59,11 @@ class MapPyramid {
   /// and put in (or out of) the level; `build`: into new levels. Changes nothing if it throws.
   void redo(const NdtMap& map, const std::vector<std::vector<CellIndex>>& cells, bool build,
             const BlockFilter& members);
+  // redo()'s phases: each cell's Gaussian computed again (counting those found), then put in.
+  std::vector<std::vector<CellChange>> redoCells(const NdtMap& map,
+                                                 const std::vector<std::vector<CellIndex>>& cells,
+                                                 const BlockFilter& members, size_t& gaussians);
+  void putIntoLevels(const NdtMap& map, std::vector<std::vector<CellChange>> changes, bool build);
 
   std::vector<int> factors_;
   std::vector<std::unique_ptr<GaussianLookup>> levels_;
