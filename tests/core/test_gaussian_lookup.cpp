@@ -235,8 +235,11 @@ TEST(GaussianLookup, UpdateGivesTheLookupOfTheChangedSet) {
     EXPECT_EQ(got[i]->information, want[i]->information);
     EXPECT_EQ(lookup.find(got[i]->cell), got[i]);
   }
-  for (size_t i = 0; i < first.size(); i += 3)
-    if (expected.count(first[i].cell) == 0) EXPECT_EQ(lookup.find(first[i].cell), nullptr);
+  for (size_t i = 0; i < first.size(); i += 3) {
+    if (expected.count(first[i].cell) == 0) {
+      EXPECT_EQ(lookup.find(first[i].cell), nullptr);
+    }
+  }
   GaussianLookup with_tree(a.geometry(), first);
   EXPECT_THROW(with_tree.update({}), std::logic_error) << "its k-d tree would go stale";
 }

@@ -61,8 +61,9 @@ TEST(RunBudget, AppliedUnlessTheCommandLineGivesOne) {
   EXPECT_EQ(budget.bytes,
             budgetForInput(200 * kMB, budget.available_bytes, ndtom::defaultMemoryBudget()));
   EXPECT_EQ(options.scan.memory_budget, budget.bytes);
-  if (budget.available_bytes > 2 * 800 * kMB && ndtom::defaultMemoryBudget() < 800 * kMB)
+  if (budget.available_bytes > 2 * 800 * kMB && ndtom::defaultMemoryBudget() < 800 * kMB) {
     EXPECT_EQ(budget.bytes, 800 * kMB);
+  }
   EXPECT_NE(budget.rule.find("4 x the input's 200 MB"), std::string::npos) << budget.rule;
 
   settings.overrides.push_back({"memory_budget", "300"});
