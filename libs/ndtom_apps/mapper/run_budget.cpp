@@ -54,6 +54,8 @@ std::string megabytesText(uint64_t bytes) {
   char text[32];
   if (bytes >= 10000000000ULL)
     std::snprintf(text, sizeof text, "%.1f GB", double(bytes) / 1e9);
+  else if (bytes < 10000000)
+    std::snprintf(text, sizeof text, "%.2g MB", double(bytes) / 1e6);
   else
     std::snprintf(text, sizeof text, "%.0f MB", double(bytes) / 1e6);
   return text;
