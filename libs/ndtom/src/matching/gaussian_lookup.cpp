@@ -88,24 +88,13 @@ void GaussianLookup::IndexBlock::reindex() {
   }
 }
 
-namespace {
-
-/// Block first, then offset in the block: the order of a block's Gaussians.
-bool blockOrder(const CellIndex& a, const CellIndex& b) {
-  const CellIndex block_a = blockOf(a), block_b = blockOf(b);
-  if (block_a != block_b) return block_a < block_b;
-  return offsetInBlock(a) < offsetInBlock(b);
-}
-
-}  // namespace
-
 void GaussianLookup::index(std::vector<PreparedGaussian> gaussians, bool nearest_means) {
   // Sorted by key through an order of indices: moving 250-byte Gaussians while sorting
   // would cost more than the sort.
   std::vector<uint32_t> order(gaussians.size());
   for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    return blockOrder(gaussians[a].cell, gaussians[b].cell);
+    return inBlockOrder(gaussians[a].cell, gaussians[b].cell);
   });
   for (size_t k = 0; k < order.size();) {
     const CellIndex key = blockOf(gaussians[order[k]].cell);
@@ -143,7 +132,7 @@ void GaussianLookup::update(std::vector<CellChange> changes) {
   if (nearest_means_)
     throw std::logic_error("GaussianLookup::update: a lookup with a k-d tree cannot be updated");
   const auto by_block = [](const CellChange& a, const CellChange& b) {
-    return blockOrder(a.cell, b.cell);
+    return inBlockOrder(a.cell, b.cell);
   };
   if (!std::is_sorted(changes.begin(), changes.end(), by_block))  // MapPyramid's come sorted
     std::sort(changes.begin(), changes.end(), by_block);

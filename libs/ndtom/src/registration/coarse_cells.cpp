@@ -74,13 +74,9 @@ std::optional<PreparedGaussian> CoarseCells::gaussian(const CellIndex& coarse_ce
 
 namespace {
 
-// Block by block, by offset in a block: the order GaussianLookup::update() keeps.
+// In block order: GaussianLookup::update() then finds them sorted.
 void sortUnique(std::vector<CellIndex>& cells) {
-  std::sort(cells.begin(), cells.end(), [](const CellIndex& a, const CellIndex& b) {
-    const CellIndex block_a = blockOf(a), block_b = blockOf(b);
-    if (block_a != block_b) return block_a < block_b;
-    return offsetInBlock(a) < offsetInBlock(b);
-  });
+  std::sort(cells.begin(), cells.end(), inBlockOrder);
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
 }
 

@@ -35,6 +35,14 @@ inline CellIndex cellInBlock(const CellIndex& block, int offset) {
           block.z * kBlockEdge + (offset >> (2 * kBlockLog2))};
 }
 
+/// Cells block by block (ascending block coordinates), then by offset in a block: the order
+/// in which a block's cells sit together (GaussianLookup's blocks, a pyramid's updates).
+inline bool inBlockOrder(const CellIndex& a, const CellIndex& b) {
+  const CellIndex block_a = blockOf(a), block_b = blockOf(b);
+  if (block_a != block_b) return block_a < block_b;
+  return offsetInBlock(a) < offsetInBlock(b);
+}
+
 /// Blocks of type Block (default-constructible) indexed by block coordinates.
 template <class Block>
 class BlockGrid {
