@@ -6,20 +6,12 @@
 #include <string>
 
 #include "localization/ground_thinning.h"
+#include "localization/levelling.h"
 #include "localization/weak_directions.h"
 #include "support/option_error.h"
 
 namespace ndtom {
 namespace {
-
-// Three parameters, set mostly by the ground: a sixth of the points does (city drive: 35 ms
-// a scan with 6000; with 1000, roll and pitch within 0.1° over the kilometre all the same).
-RegistrationOptions levelling(RegistrationOptions o) {
-  o.planar = false;
-  o.level_only = true;
-  o.max_points = std::min<size_t>(o.max_points, 1000);
-  return o;
-}
 
 bool levels(const PlacementOptions& o) {
   return o.ground_thinning > 1 && !o.registration.planar;
@@ -64,7 +56,7 @@ ScanPlacer::ScanPlacer(const PlacementOptions& options)
     : options_((validate(options), options)),
       search_(fittedToLevels(options.search, options.registration.level_factors),
               options.registration),
-      leveller_(levelling(options.registration)) {}
+      leveller_(tracking::levellingOptions(options.registration)) {}
 
 ScanPlacer::~ScanPlacer() = default;
 ScanPlacer::ScanPlacer(ScanPlacer&&) noexcept = default;
@@ -124,20 +116,16 @@ void ScanPlacer::registerFromStarts(const NdtMap& map, const std::vector<Eigen::
   }
 }
 
-// With the ground thinned, height, roll and pitch rest on few points: a second pass on the
-// finest level frees only those, on every point (the ground's rings cannot pull x and y).
-// Kept if its verdict holds.
+// With the ground thinned: the levelling pass (levelling.h), kept if its verdict holds.
 void ScanPlacer::level(const NdtMap& map, const std::vector<Eigen::Vector3d>& points,
                        Placement& placement) {
   const std::shared_ptr<const MapPyramid> pyramid = registration().pyramid();
   if (!pyramid) return;
-  leveller_.pinPyramid(pyramid, map.revision());
-  const size_t finest = pyramid->size() - 1;
   ++placement.registrations;
   try {
-    const RegistrationResult r =
-        leveller_.align(map, points, placement.pose, NdtRegistration::Levels{finest, finest + 1});
-    if (r.converged) placement.pose = r.pose;
+    if (const auto levelled =
+            tracking::levelledPose(leveller_, pyramid, map, points, placement.pose))
+      placement.pose = *levelled;
   } catch (const std::invalid_argument&) {  // no usable point: the pose stays
   }
 }

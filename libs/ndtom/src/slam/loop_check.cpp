@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "localization/ground_thinning.h"
+#include "localization/levelling.h"
 #include "support/elapsed.h"
 #include "support/option_error.h"
 
@@ -56,21 +57,11 @@ Matrix6d covarianceInPoseFrame(const Matrix6d& map_covariance, const Eigen::Isom
   return turned(map_covariance, pose.linear().transpose());
 }
 
-namespace {
-
-RegistrationOptions levelling(RegistrationOptions o) {
-  o.level_only = true;
-  o.max_points = 1000;
-  return o;
-}
-
-}  // namespace
-
 LoopChecker::LoopChecker(const LoopCheckOptions& options)
     : options_((validate(options), options)),
       search_(fittedToLevels(options.search, options.registration.level_factors),
               options.registration),
-      leveller_(levelling(options.registration)) {}
+      leveller_(tracking::levellingOptions(options.registration)) {}
 
 LoopChecker::~LoopChecker() = default;
 LoopChecker::LoopChecker(LoopChecker&&) noexcept = default;
@@ -80,11 +71,8 @@ RegistrationResult LoopChecker::level(const NdtMap& map, const std::vector<Eigen
                                       RegistrationResult result) {
   const std::shared_ptr<const MapPyramid> pyramid = search_.registration().pyramid();
   if (!result.converged || !pyramid || options_.ground_thinning == 1) return result;
-  leveller_.pinPyramid(pyramid, map.revision());
-  const size_t finest = pyramid->size() - 1;
-  const RegistrationResult levelled =
-      leveller_.align(map, scan, result.pose, NdtRegistration::Levels{finest, finest + 1});
-  if (levelled.converged) result.pose = levelled.pose;
+  if (const auto levelled = tracking::levelledPose(leveller_, pyramid, map, scan, result.pose))
+    result.pose = *levelled;
   return result;
 }
 
