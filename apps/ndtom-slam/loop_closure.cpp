@@ -4,12 +4,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "ndtom_apps/process_clock.h"
+
 namespace ndtom::slam {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 Matrix6d diagonal(double sigma_m, double sigma_rad) {
   Matrix6d c = Matrix6d::Zero();
@@ -107,7 +105,7 @@ void LoopClosure::startKeyframe(OnlineMapper& mapper, const OnlineStep& step,
   const auto start = std::chrono::steady_clock::now();
   mapper.replaceMap(window());
   if (id >= options_.window) coarsen(keyframes_[id - options_.window]);  // left the window
-  report_.window_seconds += secondsSince(start);
+  report_.window_seconds += apps::secondsSince(start);
 }
 
 void LoopClosure::addOdometryEdge(size_t newer, bool restart) {
@@ -140,13 +138,13 @@ void LoopClosure::coarsen(Keyframe& k) const {
 }
 
 void LoopClosure::checkLoops(size_t current) {
+  if (!keyframes_[current].consistent) return;
   std::vector<KeyframePlace> places;
   for (size_t i = 0; i <= current; ++i)
     places.push_back({graph_.pose(i).translation(), keyframes_[i].path_length});
   const double radius =
       loopSearchRadius(options_.search, keyframes_[current].path_length - path_at_closure_);
   std::vector<size_t> candidates;
-  if (!keyframes_[current].consistent) return;
   // A submap spans a keyframe's length: anchors that far apart still overlap.
   const double reach = radius + options_.keyframes.distance;
   for (const size_t older : loopCandidates(options_.search, places, current, reach))
@@ -172,7 +170,7 @@ bool LoopClosure::checkLoop(size_t older, size_t current, const Keyframe& newer,
   LoopRecord record{
       older, current,
       checker_.check(keyframes_[older], newer, guess, radius, options_.search.max_local_radius)};
-  report_.check_seconds += secondsSince(start);
+  report_.check_seconds += apps::secondsSince(start);
   record.check.forward.levels.clear();
   record.check.backward.levels.clear();
   const bool accepted = record.check.accepted;

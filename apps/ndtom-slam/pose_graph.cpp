@@ -9,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "ndtom_apps/process_clock.h"
+
 namespace ndtom::slam {
 namespace {
 
@@ -65,7 +67,7 @@ GraphOptimization PoseGraph::optimize() {
   mrpt::graphslam::optimize_graph_spa_levmarq(graph_->network, info, nullptr, params);
   out.iterations = info.num_iters;
   out.error_after = graph_->network.chi2();
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = apps::secondsSince(start);
   return out;
 }
 
