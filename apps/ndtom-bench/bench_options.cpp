@@ -8,11 +8,10 @@ namespace ndtom::bench {
 
 namespace {
 
-constexpr apps::NamedValue<SystemKind> kSystems[] = {
-    {"ndtom-point", SystemKind::NdtomPerPoint},
-    {"ndtom-hitcell", SystemKind::NdtomPerHitCell},
-    {"octomap", SystemKind::Octomap},
-    {"mrpt-grid3d", SystemKind::MrptGrid3d}};
+constexpr apps::NamedValue<SystemKind> kSystems[] = {{"ndtom-point", SystemKind::NdtomPerPoint},
+                                                     {"ndtom-hitcell", SystemKind::NdtomPerHitCell},
+                                                     {"octomap", SystemKind::Octomap},
+                                                     {"mrpt-grid3d", SystemKind::MrptGrid3d}};
 
 int parseCount(const std::string& option, const std::string& text, int min) {
   return int(apps::parseInteger(option, text, min, 1000000));
@@ -75,11 +74,7 @@ bool isNdtom(SystemKind kind) {
 }
 
 BenchOptions parseArguments(int argc, const char* const argv[]) {
-  BenchOptions o;
-  apps::forEachArgument(
-      argc, argv, {"--help", "-h", "--quiet"},
-      [&](const std::string& flag) { (flag == "--quiet" ? o.quiet : o.help) = true; },
-      [&](const std::string& name, const std::string& value) { setOption(o, name, value); });
+  BenchOptions o = apps::parseOptionPairs<BenchOptions>(argc, argv, setOption);
   if (!o.help && o.datasets.empty()) throw apps::UsageError("no --dataset given (see --help)");
   return o;
 }

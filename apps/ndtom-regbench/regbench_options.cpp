@@ -42,6 +42,12 @@ std::vector<ErrorLevel> parseErrors(const std::string& text) {
 void setOption(RegbenchOptions& o, const std::string& name, const std::string& value) {
   if (name == "--dataset") {
     o.dataset = value;
+  } else if (name == "--csv") {
+    o.csv_path = value;
+  } else if (name == "--trials-csv") {
+    o.trials_csv_path = value;
+  } else if (name == "--plot") {
+    o.plot_path = value;
   } else if (name == "--held-out") {
     o.held_out = parseInts(name, value, 0, 1000000);
   } else if (name == "--trials") {
@@ -61,12 +67,6 @@ void setOption(RegbenchOptions& o, const std::string& name, const std::string& v
     if (!(o.max_range > 0)) throw apps::UsageError("--max-range: must be > 0 m");
   } else if (name == "--seed") {
     o.seed = uint32_t(apps::parseInteger(name, value, 0, 4294967295LL));
-  } else if (name == "--csv") {
-    o.csv_path = value;
-  } else if (name == "--trials-csv") {
-    o.trials_csv_path = value;
-  } else if (name == "--plot") {
-    o.plot_path = value;
   } else {
     throw apps::unknownOption(name);
   }
@@ -74,24 +74,8 @@ void setOption(RegbenchOptions& o, const std::string& name, const std::string& v
 
 }  // namespace
 
-const char* systemName(SystemKind kind) {
-  return apps::nameOf(kind, kSystems);
-}
-
-bool isNdtom(SystemKind kind) {
-  return kind == SystemKind::NdtomP2D || kind == SystemKind::NdtomD2D;
-}
-
-bool usesThreads(SystemKind kind) {
-  return isNdtom(kind);
-}
-
 RegbenchOptions parseArguments(int argc, const char* const argv[]) {
-  RegbenchOptions o;
-  apps::forEachArgument(
-      argc, argv, {"--help", "-h", "--quiet"},
-      [&](const std::string& flag) { (flag == "--quiet" ? o.quiet : o.help) = true; },
-      [&](const std::string& name, const std::string& value) { setOption(o, name, value); });
+  RegbenchOptions o = apps::parseOptionPairs<RegbenchOptions>(argc, argv, setOption);
   if (!o.help && o.dataset.empty()) throw apps::UsageError("no --dataset given (see --help)");
   return o;
 }
@@ -130,6 +114,18 @@ level. Progress goes to stderr, the summary (Markdown) to stdout.
   --quiet              no progress output
   --help               this text
 )";
+}
+
+const char* systemName(SystemKind kind) {
+  return apps::nameOf(kind, kSystems);
+}
+
+bool isNdtom(SystemKind kind) {
+  return kind == SystemKind::NdtomP2D || kind == SystemKind::NdtomD2D;
+}
+
+bool usesThreads(SystemKind kind) {
+  return isNdtom(kind);
 }
 
 }  // namespace ndtom::regbench

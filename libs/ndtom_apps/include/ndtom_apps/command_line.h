@@ -18,10 +18,23 @@ namespace ndtom::apps {
 /// `option(name, value)` with the argument after it. Throws UsageError
 /// "NAME: missing value (see --help)" when none follows; the callbacks throw UsageError for
 /// names they do not know.
-void forEachArgument(int argc, const char* const argv[], const std::vector<std::string>& flags,
-                     const std::function<void(const std::string& name)>& flag,
-                     const std::function<void(const std::string& name, const std::string& value)>&
-                         option);
+void forEachArgument(
+    int argc, const char* const argv[], const std::vector<std::string>& flags,
+    const std::function<void(const std::string& name)>& flag,
+    const std::function<void(const std::string& name, const std::string& value)>& option);
+
+/// Options from a command line of "--option VALUE" pairs (forEachArgument's rules) and the
+/// flags --help, -h and --quiet, which set `help` and `quiet`; `set(options, name, value)`
+/// takes each option.
+template <typename Options, typename Set>
+Options parseOptionPairs(int argc, const char* const argv[], const Set& set) {
+  Options o;
+  forEachArgument(
+      argc, argv, {"--help", "-h", "--quiet"},
+      [&](const std::string& flag) { (flag == "--quiet" ? o.quiet : o.help) = true; },
+      [&](const std::string& name, const std::string& value) { set(o, name, value); });
+  return o;
+}
 
 /// One argument of a command line in the style of ndtom-map: an option with its value (empty
 /// for a flag) or a positional argument (name empty).
