@@ -9,8 +9,6 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservationPointCloud.h>
 
-#include <random>
-
 #include "microbench_data.h"
 #include "mrpt_ndtom/CNDTOccupancyMap.h"
 
@@ -52,18 +50,8 @@ struct MrptFixture {
     }
     observation.pointcloud = cloud;
 
-    std::mt19937 rng(11);  // as bench_ndt_mcl.cpp
-    std::normal_distribution<double> g(0.0, 1.0);
-    const double deg = M_PI / 180;
-    for (int i = 0; i < 1000; ++i) {
-      Isometry3d move = Isometry3d::Identity();
-      move.linear() = (Eigen::AngleAxisd(3 * deg * g(rng), Vector3d::UnitZ()) *
-                       Eigen::AngleAxisd(1 * deg * g(rng), Vector3d::UnitY()) *
-                       Eigen::AngleAxisd(1 * deg * g(rng), Vector3d::UnitX()))
-                          .toRotationMatrix();
-      move.translation() = Vector3d(0.2 * g(rng), 0.2 * g(rng), 0.05 * g(rng));
-      particles.push_back(toPose(move * truth));
-    }
+    for (const Isometry3d& p : ndtom::microbench::particlesAround(truth))
+      particles.push_back(toPose(p));
     maps.computeObservationLikelihood(observation, particles[0]);  // NDTs built
   }
 };

@@ -1,6 +1,6 @@
 // NDT-MCL's per-particle likelihood (ndtom/localization/ndt_mcl.h) against the point-based one
-// (ndtom/matching/ndt_likelihood.h), on real lidar scans: a 0.2 m map of scans 0-29 and scan 35 as the
-// observation, scored at 1000 poses scattered around its reference pose like the particles of
+// (ndtom/matching/ndt_likelihood.h), on real lidar scans: a 0.2 m map of scans 0-29 and scan 35 as
+// the observation, scored at 1000 poses scattered around its reference pose like the particles of
 // a filter near convergence (σ 0.2 m in x and y, 0.05 m in z, 1° in roll and pitch, 3° in yaw).
 // Needs the full sequence: NDTOM_MICROBENCH_DATA=../shared/datasets/balm-realworld. With the
 // shipped ten scans the map is of scans 0-8 and scan 9 the observation.
@@ -9,12 +9,11 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <memory>
-#include <random>
 
 #include "microbench_data.h"
+#include "ndtom/localization/ndt_mcl.h"
 #include "ndtom/matching/gaussian_lookup.h"
 #include "ndtom/matching/ndt_likelihood.h"
-#include "ndtom/localization/ndt_mcl.h"
 
 namespace {
 
@@ -35,18 +34,7 @@ struct MclFixture {
     for (size_t i = 0; i < map_scans; ++i) map.insertScan(all[i].points, all[i].origin);
     truth = all[observation].pose;
     for (const Vector3d& p : all[observation].points) scan.push_back(truth.inverse() * p);
-    std::mt19937 rng(11);
-    std::normal_distribution<double> g(0.0, 1.0);
-    const double deg = M_PI / 180;
-    for (int i = 0; i < 1000; ++i) {
-      Isometry3d move = Isometry3d::Identity();
-      move.linear() = (Eigen::AngleAxisd(3 * deg * g(rng), Vector3d::UnitZ()) *
-                       Eigen::AngleAxisd(1 * deg * g(rng), Vector3d::UnitY()) *
-                       Eigen::AngleAxisd(1 * deg * g(rng), Vector3d::UnitX()))
-                          .toRotationMatrix();
-      move.translation() = Vector3d(0.2 * g(rng), 0.2 * g(rng), 0.05 * g(rng));
-      particles.push_back(move * truth);
-    }
+    particles = ndtom::microbench::particlesAround(truth);
   }
 };
 

@@ -1,6 +1,8 @@
 #include "microbench_data.h"
 
+#include <cmath>
 #include <cstdlib>
+#include <random>
 #include <string>
 
 #include "ndtom_io/scan_folder.h"
@@ -31,6 +33,24 @@ MapOptions benchOptions(double resolution, RayMode mode) {
   o.scan.max_range = 30.0;
   o.scan.ray_mode = mode;
   return o;
+}
+
+std::vector<Eigen::Isometry3d> particlesAround(const Eigen::Isometry3d& truth) {
+  using Eigen::AngleAxisd, Eigen::Vector3d;
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g(0.0, 1.0);
+  const double deg = M_PI / 180;
+  std::vector<Eigen::Isometry3d> particles;
+  for (int i = 0; i < 1000; ++i) {
+    Eigen::Isometry3d move = Eigen::Isometry3d::Identity();
+    move.linear() = (AngleAxisd(3 * deg * g(rng), Vector3d::UnitZ()) *
+                     AngleAxisd(1 * deg * g(rng), Vector3d::UnitY()) *
+                     AngleAxisd(1 * deg * g(rng), Vector3d::UnitX()))
+                        .toRotationMatrix();
+    move.translation() = Vector3d(0.2 * g(rng), 0.2 * g(rng), 0.05 * g(rng));
+    particles.push_back(move * truth);
+  }
+  return particles;
 }
 
 }  // namespace ndtom::microbench

@@ -22,4 +22,8 @@ const std::vector<WorldScan>& realScans(size_t count);
 /// Map options of the benchmarks: `resolution` (m), 30 m max range as in doc/benchmarks.md.
 MapOptions benchOptions(double resolution, RayMode mode);
 
+/// 1000 poses scattered around `truth` like a localization filter's particles (0.2 m, 3° in
+/// yaw, 1° in pitch and roll, 5 cm in z; fixed seed), the same for every benchmark.
+std::vector<Eigen::Isometry3d> particlesAround(const Eigen::Isometry3d& truth);
+
 }  // namespace ndtom::microbench
