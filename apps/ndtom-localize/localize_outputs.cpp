@@ -9,6 +9,7 @@
 #include "ndtom_apps/csv_table.h"
 #include "ndtom_apps/height_colors.h"
 #include "ndtom_apps/json_writer.h"
+#include "ndtom_apps/placement_json.h"
 #include "ndtom_apps/png_bytes.h"
 #include "ndtom_apps/statistics.h"
 #include "ndtom_apps/top_view.h"
@@ -87,17 +88,37 @@ std::string trajectoryTum(const TrackingResult& tracking) {
     if (!r.pose || r.outcome == Outcome::Lost) continue;
     const Eigen::Vector3d t = r.pose->translation();
     const Eigen::Quaterniond q(r.pose->linear());
-    s << std::fixed << std::setprecision(6) << r.time << std::setprecision(9) << ' ' << t.x()
-      << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' '
-      << q.w() << '\n';
+    s << std::fixed << std::setprecision(6) << r.time << std::setprecision(9) << ' ' << t.x() << ' '
+      << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w()
+      << '\n';
   }
   return s.str();
 }
 
 std::string scansCsv(const TrackingResult& tracking) {
-  apps::CsvTable table({"index", "time", "outcome", "found_by", "registrations", "x", "y", "z",
-                        "qx", "qy", "qz", "qw", "error_m", "error_deg", "matched_fraction",
-                        "judged_fraction", "free_fraction", "placed_in", "in_prior", "in_live", "seconds", "map_bytes", "rss_bytes"});
+  apps::CsvTable table({"index",
+                        "time",
+                        "outcome",
+                        "found_by",
+                        "registrations",
+                        "x",
+                        "y",
+                        "z",
+                        "qx",
+                        "qy",
+                        "qz",
+                        "qw",
+                        "error_m",
+                        "error_deg",
+                        "matched_fraction",
+                        "judged_fraction",
+                        "free_fraction",
+                        "placed_in",
+                        "in_prior",
+                        "in_live",
+                        "seconds",
+                        "map_bytes",
+                        "rss_bytes"});
   const auto g9 = [](double v) { return apps::CsvCell::formatted("%.9g", v); };
   for (const ScanRecord& r : tracking.scans) {
     std::vector<apps::CsvCell> row = {r.index, apps::CsvCell::formatted("%.6f", r.time),
@@ -112,8 +133,8 @@ std::string scansCsv(const TrackingResult& tracking) {
     const auto e = errorOf(r);
     row.insert(row.end(), {e ? std::to_string(e->translation) : "",
                            e ? std::to_string(e->rotation) : "", g9(r.result.matched_fraction),
-                           g9(r.result.judged_fraction), g9(r.result.free_fraction),
-                           placedIn(r), g9(r.in_prior), g9(r.in_live), g9(r.seconds), r.map_bytes, r.rss_bytes});
+                           g9(r.result.judged_fraction), g9(r.result.free_fraction), placedIn(r),
+                           g9(r.in_prior), g9(r.in_live), g9(r.seconds), r.map_bytes, r.rss_bytes});
     table.addRow(row);
   }
   return table.text();
@@ -122,7 +143,6 @@ std::string scansCsv(const TrackingResult& tracking) {
 std::string summaryJson(const LocalizeSummary& s) {
   const LocalizeOptions& o = *s.options;
   const TrackingResult& t = *s.tracking;
-  const ndtom::RegistrationOptions& ro = o.tracking.placement.registration;
   const std::vector<double> seconds = scanSeconds(t);
   apps::JsonWriter j;
   j.beginObject();
@@ -144,24 +164,7 @@ std::string summaryJson(const LocalizeSummary& s) {
   j.field("input", o.input);
   j.field("source", s.source_description);
   j.beginObject("registration");
-  j.field("method", ndtom::toString(ro.method));
-  j.beginArray("level_factors");
-  for (const int f : ro.level_factors) j.field("", f);
-  j.endArray();
-  j.field("outlier_ratio", ro.outlier_ratio);
-  j.field("max_iterations", ro.max_iterations);
-  j.field("min_range", ro.min_range);
-  j.field("max_range", ro.max_range);
-  j.field("max_points", ro.max_points);
-  j.field("min_matched_fraction", ro.min_matched_fraction);
-  j.field("min_judged_fraction", ro.min_judged_fraction);
-  j.field("max_free_fraction", ro.max_free_fraction);
-  j.field("planar", ro.planar);
-  j.field("threads", ro.threads);
-  j.field("recovery_radius", o.tracking.placement.recovery_radius);
-  j.field("recovery_yaw_deg", o.tracking.placement.recovery_yaw_deg);
-  j.field("ground_thinning", o.tracking.placement.ground_thinning);
-  j.field("weak_direction_sigma", o.tracking.placement.weak_direction_sigma);
+  apps::writePlacementOptions(j, o.tracking.placement);
   j.endObject();
   j.field("initial_given", o.tracking.initial.has_value());
   j.field("relocalize_after", o.tracking.relocalize_after);

@@ -106,10 +106,7 @@ void writeMapAndCosts(apps::JsonWriter& j, const RunSummary& s) {
   }
   j.endObject();
   j.beginObject("memory");
-  j.field("budget_bytes", s.budget.bytes);
-  j.field("budget_rule", s.budget.rule);
-  j.field("input_bytes", s.budget.input_bytes);
-  j.field("available_bytes", s.budget.available_bytes);
+  writeRunBudget(j, s.budget);
   j.field("map_bytes", last.map_bytes);
   j.field("peak_rss_after_mapping_bytes", s.peak_rss_after_mapping);
   j.field("peak_rss_bytes", s.peak_rss);

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "ndtom_apps/json_writer.h"
+#include "ndtom_apps/placement_json.h"
 #include "ndtom_apps/statistics.h"
 
 namespace ndtom::slam {
@@ -120,19 +121,11 @@ std::string summaryJson(const SlamSummary& s) {
   j.field("source", s.source_description);
   j.beginObject("options");
   j.field("resolution", s.map->options().resolution);
-  j.field("method", ndtom::toString(o.registration.method));
-  j.beginArray("level_factors");
-  for (const int f : o.registration.level_factors) j.field("", f);
-  j.endArray();
-  j.field("max_points", o.registration.max_points);
-  j.field("min_matched_fraction", o.registration.min_matched_fraction);
-  j.field("min_judged_fraction", o.registration.min_judged_fraction);
   j.field("target_radius", online.target_radius);
-  j.field("recovery_radius", o.recovery_radius);
-  j.field("recovery_yaw_deg", o.recovery_yaw_deg);
-  j.field("weak_direction_sigma", o.weak_direction_sigma);
-  j.field("ground_thinning", o.ground_thinning);
   j.field("threads", online.threads);
+  j.beginObject("placement");
+  apps::writePlacementOptions(j, o);
+  j.endObject();
   j.endObject();
   j.field("prediction", r.odometry_used ? "odometry" : "constant velocity");
   j.field("scans", r.scans.size());
@@ -142,7 +135,6 @@ std::string summaryJson(const SlamSummary& s) {
   j.field("first", r.count(ndtom::OnlineOutcome::First));
   j.field("map_cells", s.map->numCells());
   j.field("map_gaussians", s.map->numGaussians());
-  j.field("map_bytes", s.map->memoryBytes());
   const std::vector<double> seconds = scanSeconds(r);
   j.field("scan_seconds_median", apps::quantile(seconds, 0.5));
   j.field("scans_per_second", r.seconds > 0 ? double(r.scans.size()) / r.seconds : 0.0);
@@ -152,9 +144,11 @@ std::string summaryJson(const SlamSummary& s) {
   if (r.loops) writeLoops(j, *r.loops, r.rebuild_seconds);
   j.field("loop_seconds", r.seconds);
   j.field("total_seconds", s.total_seconds);
+  j.beginObject("memory");
+  mapper::writeRunBudget(j, s.budget);
+  j.field("map_bytes", s.map->memoryBytes());
   j.field("peak_rss_bytes", s.peak_rss);
-  j.field("memory_budget_bytes", s.budget.bytes);
-  j.field("memory_budget_rule", s.budget.rule);
+  j.endObject();
   apps::writeFileList(j, s.files);
   j.beginArray("per_scan");
   for (const SlamScan& scan : r.scans) writeStep(j, scan);

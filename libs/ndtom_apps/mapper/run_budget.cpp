@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "ndtom/map/memory_budget.h"
+#include "ndtom_apps/json_writer.h"
 
 namespace ndtom::mapper {
 
@@ -89,6 +90,13 @@ RunBudget applyRunBudget(InsertionOptions& options, const InsertionSettings& set
 bool needsOutOfCore(const RunBudget& budget) {
   return !budget.given && budget.available_bytes > 0 &&
          budget.input_bytes > budget.available_bytes / 2 / kBudgetPerInputByte;
+}
+
+void writeRunBudget(apps::JsonWriter& json, const RunBudget& budget) {
+  json.field("budget_bytes", budget.bytes);
+  json.field("budget_rule", budget.rule);
+  json.field("input_bytes", budget.input_bytes);
+  json.field("available_bytes", budget.available_bytes);
 }
 
 }  // namespace ndtom::mapper

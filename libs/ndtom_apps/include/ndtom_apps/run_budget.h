@@ -9,6 +9,10 @@
 
 #include "ndtom_apps/insertion_settings.h"
 
+namespace ndtom::apps {
+class JsonWriter;
+}
+
 namespace ndtom::mapper {
 
 /// A map of lidar scans takes about their bytes on disk (1 km of ndtom-worldgen's city: 287
@@ -45,5 +49,9 @@ RunBudget applyRunBudget(InsertionOptions& options, const InsertionSettings& set
 /// capped by the memory available (4 x the input does not fit in half of it), so the map,
 /// about the input's size, and the outputs made from it in memory may not fit either.
 bool needsOutOfCore(const RunBudget& budget);
+
+/// The budget's fields in a summary's current JSON object: budget_bytes, budget_rule,
+/// input_bytes, available_bytes.
+void writeRunBudget(apps::JsonWriter& json, const RunBudget& budget);
 
 }  // namespace ndtom::mapper
