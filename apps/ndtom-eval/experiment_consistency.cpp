@@ -23,14 +23,29 @@ struct ConsistencyMaps {
         }()) {}
 };
 
-// One line per method, from the table's similarity_<method> columns.
-void plotMethods(EvalContext& ctx, const std::string& file, const PlotAxes& axes,
-                 const CsvTable& table) {
+// The figure's table and plot (one line per method, from the similarity_<method> columns),
+// and one summary figure per method: `reduce` of its column under "<key><method>".
+void writeFigure(EvalContext& ctx, const std::string& figure, const PlotAxes& axes,
+                 const CsvTable& table, const std::string& key,
+                 double (*reduce)(const std::vector<double>&)) {
+  table.write(ctx.output(figure + ".csv"));
   const std::vector<double> x = table.column("cloud");
-  writeLinePlot(ctx.output(file), axes,
+  writeLinePlot(ctx.output(figure + ".png"), axes,
                 {{"Recursive NDT", x, table.column("similarity_recursive"), colors::kRecursive},
                  {"NDT-OM", x, table.column("similarity_ndtom"), colors::kNdtOm},
                  {"ER", x, table.column("similarity_er"), colors::kEr}});
+  for (const char* method : {"recursive", "ndtom", "er"})
+    ctx.summary.add(key + method, reduce(table.column(std::string("similarity_") + method)));
+}
+
+double last(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : v.back();
+}
+
+double mean(const std::vector<double>& v) {
+  double sum = 0;
+  for (double x : v) sum += x;
+  return v.empty() ? 0.0 : sum / double(v.size());
 }
 
 // Fig. 1: insert one cloud at a time; after each, compare every map with the batch map.
@@ -59,21 +74,9 @@ void batchConsistency(EvalContext& ctx, const std::string& dataset,
                   mapSimilarity(er, batch)});
     progress.step();
   }
-  table.write(ctx.output("fig1_" + dataset + ".csv"));
-
   PlotAxes axes{"Fig. 1 (" + dataset + "): each map vs the batch map", "clouds inserted",
                 "mean L2 similarity to the batch map", 0.0, 1.02};
-  plotMethods(ctx, "fig1_" + dataset + ".png", axes, table);
-  const std::string key = "fig1_" + dataset + "_final_similarity_";
-  ctx.summary.add(key + "recursive", table.column("similarity_recursive").back());
-  ctx.summary.add(key + "ndtom", table.column("similarity_ndtom").back());
-  ctx.summary.add(key + "er", table.column("similarity_er").back());
-}
-
-double mean(const std::vector<double>& v) {
-  double sum = 0;
-  for (double x : v) sum += x;
-  return v.empty() ? 0.0 : sum / double(v.size());
+  writeFigure(ctx, "fig1_" + dataset, axes, table, "fig1_" + dataset + "_final_similarity_", last);
 }
 
 // Fig. 2: every single cloud's NDT against each map built from all clouds.
@@ -95,15 +98,9 @@ void selfTest(EvalContext& ctx, const std::string& dataset, const std::vector<Cl
                   scanSimilarity(points, er, geometry, ctx.floor)});
     progress.step();
   }
-  table.write(ctx.output("fig2_" + dataset + ".csv"));
-
   PlotAxes axes{"Fig. 2 (" + dataset + "): each cloud vs the map of all clouds", "cloud",
                 "mean L2 similarity of the cloud's NDT", 0.0, 1.02};
-  plotMethods(ctx, "fig2_" + dataset + ".png", axes, table);
-  const std::string key = "fig2_" + dataset + "_mean_similarity_";
-  ctx.summary.add(key + "recursive", mean(table.column("similarity_recursive")));
-  ctx.summary.add(key + "ndtom", mean(table.column("similarity_ndtom")));
-  ctx.summary.add(key + "er", mean(table.column("similarity_er")));
+  writeFigure(ctx, "fig2_" + dataset, axes, table, "fig2_" + dataset + "_mean_similarity_", mean);
 }
 
 }  // namespace
