@@ -9,11 +9,9 @@
 # Writes doc/localization/{tracking.csv,global.csv,summary.md,tracking_top.png}.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-data="${NDTOM_SHARED_DATASETS:-../shared/datasets}/balm-realworld"
-[[ -d "$data" ]] || { echo "localization.sh: no lidar data at $data (set NDTOM_SHARED_DATASETS)" >&2; exit 1; }
-
-cmake -S . -B build-bench -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build-bench -j2 --target ndtom-map ndtom-localize
+source scripts/bench-common.sh
+require_balm_data
+build_bench ndtom-map ndtom-localize
 bin=build-bench/apps
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -7,11 +7,9 @@
 # Usage: scripts/regbench.sh [more ndtom-regbench options, e.g. --trials 8 or --systems ndtom-p2d]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-data="${NDTOM_SHARED_DATASETS:-../shared/datasets}/balm-realworld"
-[[ -d "$data" ]] || { echo "regbench.sh: no lidar data at $data (set NDTOM_SHARED_DATASETS)" >&2; exit 1; }
-
-cmake -S . -B build-bench -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build-bench -j2 --target ndtom-regbench
+source scripts/bench-common.sh
+require_balm_data
+build_bench ndtom-regbench
 mkdir -p doc/registration
 build-bench/apps/ndtom-regbench/ndtom-regbench --dataset "$data" --threads 1,2 \
   --csv doc/registration/results.csv --trials-csv doc/registration/trials.csv \
