@@ -4,32 +4,29 @@
 include(CMakePackageConfigHelpers)
 set(NDTOM_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/ndtom)
 
-install(TARGETS ndtom EXPORT ndtom-targets)
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/libs/ndtom/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(EXPORT ndtom-targets NAMESPACE ndtom:: DESTINATION ${NDTOM_CMAKE_DIR})
+# A library of libs/NAME: its targets, its include/ folder and its export set NAME-targets.
+function(ndtom_install_library name)
+  install(TARGETS ${ARGN} EXPORT ${name}-targets)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/libs/${name}/include/
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  install(EXPORT ${name}-targets NAMESPACE ndtom:: DESTINATION ${NDTOM_CMAKE_DIR})
+endfunction()
+
+ndtom_install_library(ndtom ndtom)
 
 set(NDTOM_EXPORTED_COMPONENTS "")
 # The evaluation's measures: installed so that users can score their own maps as the paper
 # does (ndtom-eval and ndtom-bench link it statically). Eigen only, as the core.
 if(TARGET ndtom_eval)
-  install(TARGETS ndtom_eval EXPORT ndtom_eval-targets)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/libs/ndtom_eval/include/
-          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-  install(EXPORT ndtom_eval-targets NAMESPACE ndtom:: DESTINATION ${NDTOM_CMAKE_DIR})
+  ndtom_install_library(ndtom_eval ndtom_eval)
   list(APPEND NDTOM_EXPORTED_COMPONENTS ndtom_eval)
 endif()
 if(TARGET ndtom_io)
-  install(TARGETS ndtom_io EXPORT ndtom_io-targets)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/libs/ndtom_io/include/
-          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-  install(EXPORT ndtom_io-targets NAMESPACE ndtom:: DESTINATION ${NDTOM_CMAKE_DIR})
+  ndtom_install_library(ndtom_io ndtom_io)
   list(APPEND NDTOM_EXPORTED_COMPONENTS ndtom_io)
 endif()
 if(TARGET mrpt_ndtom)
-  install(TARGETS mrpt_ndtom mrpt_ndtom_linked EXPORT mrpt_ndtom-targets)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/libs/mrpt_ndtom/include/
-          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-  install(EXPORT mrpt_ndtom-targets NAMESPACE ndtom:: DESTINATION ${NDTOM_CMAKE_DIR})
+  ndtom_install_library(mrpt_ndtom mrpt_ndtom mrpt_ndtom_linked)
   list(APPEND NDTOM_EXPORTED_COMPONENTS mrpt_ndtom)
 endif()
 
