@@ -20,9 +20,7 @@ namespace {
 
 PreparedGaussian fromFloored(const Gaussian& g, const FlooredEigen& floored) {
   PreparedGaussian p;
-  p.cell = g.cell;
-  p.n = g.n;
-  p.mean = g.mean;
+  static_cast<Gaussian&>(p) = g;
   const Eigen::Vector3d& lambda = floored.values;  // ascending
   const Eigen::Matrix3d& v = floored.vectors;
   p.covariance = floored.matrix();

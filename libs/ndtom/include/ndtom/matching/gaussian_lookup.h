@@ -14,17 +14,15 @@
 
 #include "ndtom/map/block_grid.h"
 #include "ndtom/map/cell_index.h"
+#include "ndtom/map/gaussian.h"
 #include "ndtom/map/ndt_map.h"
 #include "ndtom/matching/point_kdtree.h"
 
 namespace ndtom {
 
-struct PreparedGaussian {
-  CellIndex cell;
-  uint32_t n = 0;                                  ///< points behind the estimate
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();  ///< world frame (m)
-  /// The regularised covariance (m²) and its inverse (m⁻²): d² = (p − μ)ᵀ·information·(p − μ).
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+/// A Gaussian whose covariance is regularised, with what the queries derive from it.
+struct PreparedGaussian : Gaussian {
+  /// The covariance's inverse (m⁻²): d² = (p − μ)ᵀ·information·(p − μ).
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
   double max_variance = 0;  ///< its largest eigenvalue (m²): d² ≥ |p − μ|² / max_variance
   /// λ_min·Σ⁻¹ of the regularised covariance (dimensionless): applied to p − μ it keeps the
