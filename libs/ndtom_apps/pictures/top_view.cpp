@@ -135,8 +135,10 @@ void drawLinks(const ColouredPath& path, const Frame& f, cv::Mat& view) {
 
 cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale,
                       const std::vector<Eigen::Vector3d>& sensor_path, int width) {
-  return renderTopView(map, scale, ColouredPath{sensor_path, {}, {}, "black: sensor path from o"},
-                       width);
+  ColouredPath path;
+  path.points = sensor_path;
+  path.legend = "black: sensor path from o";
+  return renderTopView(map, scale, path, width);
 }
 
 cv::Mat renderTopView(const ndtom::NdtMap& map, const HeightScale& scale, const ColouredPath& path,
