@@ -81,6 +81,27 @@ TEST(LoopCandidates, WithinTheRadiusAndFarEnoughBackAlongThePathNearestFirst) {
   EXPECT_THROW(validate(o), std::invalid_argument);
 }
 
+// A new keyframe once the sensor moved or turned far enough from the anchor, measured in the
+// anchor's frame: either alone suffices, and neither a shorter move nor a smaller turn does.
+TEST(Keyframes, StartByDistanceOrTurnFromTheAnchor) {
+  KeyframeOptions o;
+  o.distance = 10;
+  o.turn_deg = 30;
+  const Isometry3d anchor =
+      Eigen::Translation3d(5, -3, 1) * Eigen::AngleAxisd(2.0, Vector3d::UnitZ());
+  const auto at = [&](const Vector3d& move, double yaw_deg) {
+    return anchor * Eigen::Translation3d(move) *
+           Eigen::AngleAxisd(yaw_deg * M_PI / 180, Vector3d(0.1, 0.2, 1).normalized());
+  };
+  EXPECT_FALSE(startsKeyframe(o, anchor, anchor));
+  EXPECT_FALSE(startsKeyframe(o, anchor, at(Vector3d(6, 7.9, 0), 29)));  // 9.92 m, 29°
+  EXPECT_TRUE(startsKeyframe(o, anchor, at(Vector3d(6, 8.1, 0), 0)));    // 10.08 m
+  EXPECT_TRUE(startsKeyframe(o, anchor, at(Vector3d(0.5, 0, 0), 31)));
+  EXPECT_TRUE(startsKeyframe(o, anchor, at(Vector3d(0.5, 0, 0), -31)));
+  o.turn_deg = 0;
+  EXPECT_THROW(validate(o), std::invalid_argument);
+}
+
 // The covariance of a registration's error (map frame) as the error of the relative pose in
 // its own frame, against perturbations drawn from it and measured by the relative pose's log.
 TEST(LoopCheck, EdgeCovarianceMatchesSampledPerturbations) {
