@@ -7,6 +7,7 @@
 #include <string>
 
 #include "ndtom_internal/input_file.h"
+#include "support/stage_clock.h"
 
 namespace ndtom {
 
@@ -28,6 +29,8 @@ ScanUpdater::ScanUpdater(NdtMap& map, const ScanOptions& options, const ScanPart
 
 InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
                                  const Eigen::Vector3d& origin) {
+  StageClock clock(options_.profile);
+  clock.next("setup");
   // Any failure before this scan's count exchange, from here on, is told to the others.
   s_.free_counts.exchanged = false;
   struct FailureNotice {
@@ -53,18 +56,24 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
 
   // Nothing below touches the map until applyToMap(), which cannot fail half-way.
   try {
+    clock.next("classify");
     classifyPoints(scan, points, s_.points, report);
     // Per-point rays need no groups: a process sorts and groups only its tiles' hits (the
     // per-hit-cell mode casts a ray per group, so there every process groups every end).
+    clock.next("sort");
     sortRayEnds(scan, s_.points, ray_per_group ? nullptr : owned, s_.ray_ends);
+    clock.next("group");
     groupEnds(scan, s_.points, s_.ray_ends, ray_per_group ? GroupMeans::Compute : GroupMeans::Skip,
               s_.groups, report);
     if (owned) dropHitsOutside(*owned);
     checkBudgetForEnds(report);
+    clock.next("trace");
     if (occupancy) traceFreeRaysInBudget(scan, report);
+    clock.next("apply");
     const MapChange change = applyToMap(scan, map_.options(), s_.groups, s_.free_counts,
                                         MapInternals::grid(map_), s_.apply, report);
     MapInternals::countBlocks(map_, change.cells_created, change.stats_bytes);
+    clock.next("record");
     recordStatsChanges();
   } catch (const MemoryBudgetError&) {
     for (ScanCounts& c : s_.free_counts.tables) c.releaseMemory();  // may hold the budget's worth

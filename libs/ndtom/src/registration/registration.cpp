@@ -16,6 +16,7 @@
 #include "support/elapsed.h"
 #include "support/option_error.h"
 #include "support/parallel.h"
+#include "support/stage_clock.h"
 
 namespace ndtom {
 namespace {
@@ -229,17 +230,22 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   using namespace registration;
   const auto start = Clock::now();
   const RegistrationOptions& o = options_;
+  StageClock clock(o.profile);
+  clock.next("setup");
   RegistrationResult result;
   result.pose = rigidGuess(guess);
 
   // The map's levels and the scan's, coarse to fine.
+  clock.next("pyramid");
   const auto pyramid = pyramidFor(map);
   result.pyramid_rebuilt = pyramid != pyramid_;
   const LevelSpan span = levelSpan(*pyramid, range.begin, range.end);
+  clock.next("scan levels");
   const std::vector<ScanLevel>& levels = state_->levelsFor(map, scan, span.resolutions, o);
   pyramid_ = pyramid;
 
   // Newton's method on each level, from the pose the coarser one reached.
+  clock.next("newton");
   std::vector<NdtObjective> objectives;
   objectives.reserve(levels.size());
   for (size_t l = 0; l < levels.size(); ++l) {
@@ -254,6 +260,7 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   }
 
   // The finest level's fit, the pose's covariance, and the verdict.
+  clock.next("verdict");
   const LevelReport& last = result.levels.back();
   result.score = last.score;
   const SpaceFractions space = spaceFractions(map, objectives.back(), levels.back(), result.pose);
@@ -268,6 +275,7 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   result.covariance = covariance.covariance;
   result.failure = verdict(result, covariance.constrained, o);
   result.converged = result.failure.empty();
+  clock.stop();
   result.seconds = secondsSince(start);
   return result;
 }

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "support/radix_sort.h"
+#include "support/stage_clock.h"
 
 namespace ndtom::registration {
 namespace {
@@ -71,6 +72,7 @@ void sortByCell(std::vector<std::pair<CellIndex, uint32_t>>& keyed) {
     words[i] = key << index_bits | keyed[i].second;  // indices ascend: the sort is stable
   }
   WorkerPool pool;  // one thread: run() calls back directly, no thread is started
+  const SerialRegion serial;  // a profile counts it as serial, which it is
   radixSortByBits(words, buffer, index_bits, key_bits, pool, 1);
   const std::vector<std::pair<CellIndex, uint32_t>> original = keyed;
   const uint64_t index_mask = (uint64_t(1) << index_bits) - 1;

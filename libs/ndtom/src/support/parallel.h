@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "support/stage_clock.h"
+
 namespace ndtom {
 
 /// Threads kept from stage to stage and scan to scan: a scan has a dozen parallel stages, and
@@ -37,9 +39,37 @@ class WorkerPool {
   /// Runs task(t) for t = 0 .. threads-1, task(0) on the calling thread, and returns when all
   /// are done, rethrowing the first exception. Workers start on first need and stay; a worker
   /// that cannot be started (no threads or memory left) has its share run by the caller, so
-  /// the result never depends on it.
+  /// the result never depends on it. In a profiled stage (StageClock), the region's wall time
+  /// and each task's time are added to the stage.
   template <class Task>
   void run(size_t threads, Task&& task) {
+    StageTimes* const stage = t_open_stage;
+    if (!stage) return runRound(threads, task);
+    std::vector<double> busy;
+    try {
+      busy.assign(std::max<size_t>(threads, 1), 0.0);
+    } catch (...) {  // out of memory: unprofiled
+      return runRound(threads, task);
+    }
+    t_open_stage = nullptr;  // a region inside a task is part of this one
+    struct Restore {
+      StageTimes* stage;
+      ~Restore() { t_open_stage = stage; }
+    } restore{stage};
+    const Clock::time_point start = Clock::now();
+    runRound(threads, [&](size_t t) {
+      const Clock::time_point task_start = Clock::now();
+      task(t);
+      busy[t] = secondsSince(task_start);
+    });
+    stage->parallel_wall_seconds += secondsSince(start);
+    for (const double b : busy) stage->busy_seconds += b;
+    ++stage->regions;
+  }
+
+ private:
+  template <class Task>
+  void runRound(size_t threads, Task&& task) {
     if (threads <= 1) {
       task(size_t(0));
       return;
@@ -89,7 +119,6 @@ class WorkerPool {
       if (e) std::rethrow_exception(e);
   }
 
- private:
   /// Spins (pausing) until `ready()` or for kSpin; whether ready() came true.
   template <class Ready>
   static bool spinUntil(Ready&& ready) {

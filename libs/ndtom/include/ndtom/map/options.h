@@ -10,6 +10,8 @@
 
 namespace ndtom {
 
+struct StageProfile;  // ndtom/support/stage_profile.h
+
 enum class RayMode {
   /// One ray per point, as in the paper: the reference.
   PerPoint = 0,
@@ -56,6 +58,9 @@ struct ScanOptions {
   /// refused with MemoryBudgetError and the map left as it was (Default: a quarter of the
   /// physical memory, at most 512 MB). Like threads, not stored in map files.
   uint64_t memory_budget = defaultMemoryBudget();
+  /// Not an option: where to add the time of each insertion stage, or null (Default). Never
+  /// compared, copied by copyOptions() or stored; the map does not depend on it.
+  StageProfile* profile = nullptr;
 };
 
 struct MapOptions {

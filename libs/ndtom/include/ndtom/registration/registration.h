@@ -81,6 +81,9 @@ struct RegistrationOptions {
   bool level_only = false;
   /// Threads over points; the result is the same for any count (Default: 1).
   int threads = 1;
+  /// Not an option: where to add the time of each stage of align(), or null (Default). The
+  /// pose does not depend on it.
+  StageProfile* profile = nullptr;
 };
 
 /// Throws std::invalid_argument("<option> = <value>: <why>") on the first bad value.
