@@ -52,6 +52,8 @@ void setOption(BenchOptions& o, const std::string& name, const std::string& valu
       o.real_time_ms.push_back(ms);
     }
     if (o.real_time_ms.empty()) throw apps::UsageError("--real-time: empty list");
+  } else if (name == "--registration-scans") {
+    o.registration_scans = parseCount(name, value, 0);
   } else if (name == "--repeats") {
     o.repeats = parseCount(name, value, 1);
   } else if (name == "--csv") {
@@ -85,7 +87,10 @@ std::string helpText(const std::string& program) {
 Replays the same scans into NDT-OM, OctoMap and MRPT's COccupancyGridMap3D, one after the
 other in this process, and reports time per scan, rates, memory and cell counts per system and
 resolution, the ratios to OctoMap and COccupancyGridMap3D, and the project's targets.
-Only insertion is timed. Progress goes to stderr, the summary table to stdout.
+Insertion is timed, then registration against the map built (see --registration-scans).
+Per stage, the time on one thread and in parallel regions is reported, with the speed-up
+Amdahl's law predicts from it at 2, 4, 8 and 16 threads. Progress goes to stderr, the summary
+table to stdout.
 
   --dataset DIR|synthetic  a folder with fullN.pcd scans (sensor frame) and poses.txt (KITTI)
                            (scripts/fetch-data.sh downloads the BALM scans in this layout),
@@ -103,7 +108,13 @@ Only insertion is timed. Progress goes to stderr, the summary table to stdout.
   --repeats N              full runs per system and resolution; times are pooled (default: 1;
                            the side-by-side thread comparison runs at least 3, and at least
                            6 s of the multi-thread side)
-  --csv FILE               write one row per system, threads and resolution
+  --registration-scans N   register the first N scans (at most all) against the map of
+                           ndtom-point/t1 (else the first NDT-OM map), each from its pose
+                           moved 0.3 m and turned 3 deg, at each --threads (default: 20;
+                           0: none)
+  --csv FILE               write one row per system, threads and resolution, and per stage
+                           of each NDT-OM and registration run FILE.stages.csv (FILE less
+                           its .csv)
   --plot PREFIX            write PREFIX_<dataset>.png: time per scan against resolution
   --quiet                  no progress output
   --help                   this text

@@ -31,6 +31,7 @@ struct BenchOptions {
   double max_range = 30.0;           ///< m, the same for every system; inf: none (Default: 30 m)
   std::vector<double> real_time_ms;  ///< scan periods drawn and reported (Default: none)
   int repeats = 1;                   ///< full runs per system and resolution (Default: 1)
+  int registration_scans = 20;       ///< scans registered against the map built; 0 = none
   std::string csv_path;              ///< per-run results as CSV; empty = none
   std::string plot_prefix;           ///< PNG plot per dataset: <prefix>_<dataset>.png; empty = none
   bool quiet = false;                ///< no progress on stderr

@@ -49,6 +49,7 @@ RunResult runSystem(MappingSystem& system, const ScanSet& set, int repeats,
     r.scan_seconds.insert(r.scan_seconds.end(), times.begin(), times.end());
   }
   r.map = system.mapSize();
+  if (const StageProfile* stages = system.stageProfile()) r.stages = *stages;
   progress.finish();
   return r;
 }

@@ -12,13 +12,15 @@
 #include "bench_options.h"
 #include "bench_runner.h"
 #include "map_comparison.h"
-#include "ndtom_apps/machine_info.h"
 #include "mrpt_grid_system.h"
+#include "ndtom_apps/machine_info.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_system.h"
 #include "octomap_system.h"
 #include "real_time.h"
+#include "registration_run.h"
 #include "report.h"
+#include "scaling.h"
 #include "synthetic_scans.h"
 #include "targets.h"
 #include "time_plot.h"
@@ -103,9 +105,40 @@ void checkGridSize(const BenchOptions& o, const ScanSet& set, const Box& bounds)
   }
 }
 
+/// Registration against the map of ndtom-point/t1 (else the first NDT-OM map) at each thread
+/// count; a multi-thread run's poses are compared with one thread's.
+void runRegistrations(const ScanSet& set, const BenchOptions& o, const std::vector<int>& threads,
+                      const std::map<std::string, std::unique_ptr<NdtMap>>& maps,
+                      apps::Progress& progress, int& run_index, int total_runs,
+                      std::vector<RunResult>& registrations) {
+  if (o.registration_scans <= 0 || maps.empty()) return;
+  const auto exact = maps.find("ndtom-point/t1");
+  const NdtMap& map = *(exact != maps.end() ? exact : maps.begin())->second;
+  const size_t scans = std::min(size_t(o.registration_scans), set.scans.size());
+  std::vector<Eigen::Isometry3d> one_thread_poses;
+  for (const int t : threads) {
+    char title[200];
+    std::snprintf(title, sizeof title, "run %d/%d %s %.2f m registration on %d thread(s)",
+                  ++run_index, total_runs, set.name.c_str(), map.options().resolution, t);
+    progress.start(title, scans);
+    std::vector<Eigen::Isometry3d> poses;
+    RunResult r = runRegistration(map, set, scans, t, progress, poses);
+    if (t == 1) {
+      one_thread_poses = poses;
+    } else if (!one_thread_poses.empty()) {
+      bool same = poses.size() == one_thread_poses.size();
+      for (size_t i = 0; same && i < poses.size(); ++i)
+        same = poses[i].matrix() == one_thread_poses[i].matrix();
+      r.same_poses_as_t1 = same;
+    }
+    registrations.push_back(std::move(r));
+  }
+}
+
 void runDataset(const ScanSet& set, const BenchOptions& o, const std::vector<PlannedRun>& plan,
-                apps::Progress& progress, int& run_index, int total_runs,
-                std::vector<RunResult>& runs) {
+                const std::vector<int>& threads, apps::Progress& progress, int& run_index,
+                int total_runs, std::vector<RunResult>& runs,
+                std::vector<RunResult>& registrations) {
   const Box bounds = rayBounds(set, o.max_range);
   checkGridSize(o, set, bounds);
   for (double resolution : o.resolutions) {
@@ -126,6 +159,7 @@ void runDataset(const ScanSet& set, const BenchOptions& o, const std::vector<Pla
       runs.push_back(std::move(r));
     }
     compareNdtomMaps(runs, first, ndt_maps);
+    runRegistrations(set, o, threads, ndt_maps, progress, run_index, total_runs, registrations);
     // Thread speed-ups once more, each multi-thread system side by side with one thread.
     for (size_t i = first; i < runs.size(); ++i) {
       RunResult& r = runs[i];
@@ -147,6 +181,40 @@ void runDataset(const ScanSet& set, const BenchOptions& o, const std::vector<Pla
   }
 }
 
+/// FILE.csv -> FILE.stages.csv (any other name: NAME.stages.csv).
+std::string stagesCsvPath(const std::string& csv) {
+  const std::string ext = ".csv";
+  const bool has_ext =
+      csv.size() > ext.size() && csv.compare(csv.size() - ext.size(), ext.size(), ext) == 0;
+  return (has_ext ? csv.substr(0, csv.size() - ext.size()) : csv) + ".stages.csv";
+}
+
+void printScaling(const std::vector<RunResult>& runs, const std::vector<RunResult>& registrations) {
+  if (!registrations.empty()) {
+    std::cout << "\nRegistration (P2D, from the pose moved 0.3 m and 3 deg; pyramid built "
+                 "before timing):\n\n| dataset | system | res (m) | scans | median ms/scan | "
+                 "CPU/wall | same poses as /t1 |\n|---|---|---:|---:|---:|---:|---|\n";
+    for (const RunResult& r : registrations) {
+      char line[300];
+      std::snprintf(line, sizeof line, "| %s | %s | %.2f | %zu | %.2f | %.2f | %s |\n",
+                    r.dataset.c_str(), r.label.c_str(), r.resolution, r.scan_seconds.size(),
+                    r.medianSeconds() * 1e3, r.cpuPerWall(),
+                    r.same_poses_as_t1 ? (*r.same_poses_as_t1 ? "yes" : "NO") : "-");
+      std::cout << line;
+    }
+  }
+  std::vector<RunResult> all = runs;
+  all.insert(all.end(), registrations.begin(), registrations.end());
+  std::cout << "\nWhere the time goes, per scan (serial: on the calling thread alone; parallel "
+               "wall: regions on the worker threads; busy: their tasks' time summed over "
+               "threads):\n\n"
+            << stagesTable(all)
+            << "\nBeyond the threads measured: Amdahl's S(n) = 1 / ((1 - p) + p / n), p the "
+               "one-thread run's time in parallel regions (an upper bound: no spinning, "
+               "imbalance or memory bandwidth):\n\n"
+            << amdahlTable(all);
+}
+
 ScanSet loadDataset(const std::string& name, int max_scans) {
   if (name == kSyntheticDataset)
     return generateSyntheticScans(max_scans > 0 ? max_scans : kDefaultSyntheticScans);
@@ -154,7 +222,7 @@ ScanSet loadDataset(const std::string& name, int max_scans) {
 }
 
 void printReport(const BenchOptions& o, const std::vector<ScanSet>& sets,
-                 const std::vector<RunResult>& runs) {
+                 const std::vector<RunResult>& runs, const std::vector<RunResult>& registrations) {
   std::cout << "## ndtom-bench results\n\nCPU: " << apps::cpuDescription()
             << "\nBuild: " << apps::buildDescription() << "\nMax range: "
             << (std::isinf(o.max_range) ? std::string("none") : std::to_string(o.max_range) + " m")
@@ -169,7 +237,9 @@ void printReport(const BenchOptions& o, const std::vector<ScanSet>& sets,
         extent.z());
   }
 
-  std::cout << "\n" << resultsTable(runs) << "\n" << comparisonTable(runs) << "\nTargets:\n";
+  std::cout << "\n" << resultsTable(runs) << "\n" << comparisonTable(runs);
+  printScaling(runs, registrations);
+  std::cout << "\nTargets:\n";
   for (const ScanSet& s : sets)
     for (const std::string& line : checkTargets(runs, s.name))
       std::cout << "  [" << s.name << "] " << line << "\n";
@@ -200,15 +270,25 @@ int run(const BenchOptions& o) {
   const auto multi_thread = std::count_if(plan.begin(), plan.end(), [](const PlannedRun& p) {
     return isNdtom(p.kind) && p.threads > 1;
   });
+  const bool registers =
+      o.registration_scans > 0 &&
+      std::any_of(plan.begin(), plan.end(), [](const PlannedRun& p) { return isNdtom(p.kind); });
   const int total_runs =
-      int(sets.size() * o.resolutions.size() * (plan.size() + size_t(multi_thread)));
+      int(sets.size() * o.resolutions.size() *
+          (plan.size() + size_t(multi_thread) + (registers ? threads.size() : 0)));
   apps::Progress progress(!o.quiet);
-  std::vector<RunResult> runs;
+  std::vector<RunResult> runs, registrations;
   int run_index = 0;
-  for (const ScanSet& set : sets) runDataset(set, o, plan, progress, run_index, total_runs, runs);
+  for (const ScanSet& set : sets)
+    runDataset(set, o, plan, threads, progress, run_index, total_runs, runs, registrations);
 
-  printReport(o, sets, runs);
-  if (!o.csv_path.empty()) writeCsv(o.csv_path, runs);
+  printReport(o, sets, runs, registrations);
+  if (!o.csv_path.empty()) {
+    writeCsv(o.csv_path, runs);
+    std::vector<RunResult> all = runs;
+    all.insert(all.end(), registrations.begin(), registrations.end());
+    writeStagesCsv(stagesCsvPath(o.csv_path), all);
+  }
   if (!o.plot_prefix.empty())
     for (const ScanSet& s : sets)
       writeTimePlot(o.plot_prefix + "_" + s.name + ".png", runs, s.name, o.real_time_ms);

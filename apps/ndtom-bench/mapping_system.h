@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "ndtom/support/stage_profile.h"
 #include "scan_set.h"
 
 namespace ndtom::bench {
@@ -31,6 +32,9 @@ class MappingSystem {
   /// the system or reconstructed untimed, see each system).
   virtual uint64_t lastScanVisits(const Scan& scan) = 0;
   virtual MapSize mapSize() const = 0;
+  /// Where the timed calls' time went, stage by stage, since the system was made; null for
+  /// systems that do not say.
+  virtual const StageProfile* stageProfile() const { return nullptr; }
 };
 
 }  // namespace ndtom::bench

@@ -25,6 +25,7 @@ NdtomSystem::NdtomSystem(double resolution, double max_range, RayMode mode, int 
   options_.scan.max_range = max_range;
   options_.scan.ray_mode = mode;
   setThreads(options_.scan, threads);
+  options_.scan.profile = &profile_;  // a few clock reads a stage: lost in a scan's time
   validate(options_);
 }
 

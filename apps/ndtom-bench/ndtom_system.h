@@ -21,6 +21,8 @@ inline constexpr bool kCoreHasThreads = HasThreadsField<ScanOptions>::value;
 
 class NdtomSystem : public MappingSystem {
  public:
+  NdtomSystem(const NdtomSystem&) = delete;
+  NdtomSystem& operator=(const NdtomSystem&) = delete;
   /// Throws std::invalid_argument if threads > 1 and the core has no threaded insertion.
   NdtomSystem(double resolution, double max_range, RayMode mode, int threads);
 
@@ -29,6 +31,7 @@ class NdtomSystem : public MappingSystem {
   void insertScan(const Scan& scan) override;
   uint64_t lastScanVisits(const Scan&) override { return last_report_.voxel_visits; }
   MapSize mapSize() const override;
+  const StageProfile* stageProfile() const override { return &profile_; }
 
   const NdtMap& map() const { return *map_; }
   RayMode rayMode() const { return options_.scan.ray_mode; }
@@ -37,6 +40,7 @@ class NdtomSystem : public MappingSystem {
   std::unique_ptr<NdtMap> releaseMap() { return std::move(map_); }
 
  private:
+  StageProfile profile_;  // options_.scan.profile points to it
   MapOptions options_;
   int threads_;
   std::unique_ptr<NdtMap> map_;

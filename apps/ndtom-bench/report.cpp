@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <iterator>
 #include <stdexcept>
 
+#include "amdahl.h"
 #include "ndtom_apps/csv_table.h"
+#include "scaling.h"
 
 namespace ndtom::bench {
 
@@ -136,12 +139,23 @@ void writeCsv(const std::string& path, const std::vector<RunResult>& runs) {
                         "ratio_octomap_cpu",
                         "ratio_grid3d_cpu",
                         "speedup_vs_t1",
-                        "speedup_vs_t1_side_by_side"});
+                        "speedup_vs_t1_side_by_side",
+                        "parallel_fraction_t1",
+                        "predicted_s2",
+                        "predicted_s4",
+                        "predicted_s8",
+                        "predicted_s16",
+                        "cpu_ratio_vs_t1"});
   const auto g = [](double v) { return apps::CsvCell::formatted("%g", v); };
   for (const RunResult& r : runs) {
     const auto [lo, hi] =
         std::minmax_element(r.repeat_median_seconds.begin(), r.repeat_median_seconds.end());
     const std::string identical = r.vs_one_thread ? (r.vs_one_thread->identical ? "1" : "0") : "";
+    const std::optional<double> p = parallelFractionT1(runs, r);
+    const auto predicted = [&](int n) {
+      return p ? apps::CsvCell(g(amdahlSpeedup(*p, n))) : apps::CsvCell("");
+    };
+    static_assert(std::size(kPredictedThreads) == 4, "a column each");
     table.addRow({r.dataset,
                   r.label,
                   r.threads,
@@ -171,7 +185,13 @@ void writeCsv(const std::string& path, const std::vector<RunResult>& runs) {
                   optionalText(timeRatio(runs, r, kOctomap, true)),
                   optionalText(timeRatio(runs, r, kGrid3d, true)),
                   optionalText(oneThreadSpeedup(runs, r)),
-                  optionalText(r.paired_speedup)});
+                  optionalText(r.paired_speedup),
+                  p ? g(*p) : apps::CsvCell(""),
+                  predicted(2),
+                  predicted(4),
+                  predicted(8),
+                  predicted(16),
+                  optionalText(cpuRatioVsT1(runs, r))});
   }
   try {
     table.write(path);

@@ -20,10 +20,13 @@ double RunResult::totalSeconds() const {
   return std::accumulate(scan_seconds.begin(), scan_seconds.end(), 0.0);
 }
 
+double RunResult::totalCpuSeconds() const {
+  return std::accumulate(scan_cpu_seconds.begin(), scan_cpu_seconds.end(), 0.0);
+}
+
 double RunResult::cpuPerWall() const {
   const double wall = totalSeconds();
-  return wall > 0 ? std::accumulate(scan_cpu_seconds.begin(), scan_cpu_seconds.end(), 0.0) / wall
-                  : 0;
+  return wall > 0 ? totalCpuSeconds() / wall : 0;
 }
 
 double RunResult::pointsPerSecond() const {

@@ -9,6 +9,7 @@
 #include "bench_options.h"
 #include "map_comparison.h"
 #include "mapping_system.h"
+#include "ndtom/support/stage_profile.h"
 
 namespace ndtom::bench {
 
@@ -34,6 +35,10 @@ struct RunResult {
   /// For threads > 1: one thread's insertion time over this one's, the two replayed side by
   /// side in turns (runPaired), so that load on a shared machine falls on both alike.
   std::optional<double> paired_speedup;
+  /// NDT-OM: where the time of every timed call went, stage by stage (all repeats).
+  StageProfile stages;
+  /// Registration runs, threads > 1: every pose bit for bit the one-thread run's.
+  std::optional<bool> same_poses_as_t1;
 
   double medianSeconds() const;
   /// Median process CPU time per scan: unlike wall time, not inflated when other processes
@@ -41,6 +46,7 @@ struct RunResult {
   double medianCpuSeconds() const;
   double p95Seconds() const;
   double totalSeconds() const;
+  double totalCpuSeconds() const;
   /// Process CPU time over wall time of the insertions: ~1 for one thread on an idle core,
   /// below 1 when other processes took the core, ~threads when threads run in parallel.
   double cpuPerWall() const;

@@ -56,6 +56,7 @@ ScanSet loadScanDirectory(const std::string& dir, int max_scans) {
     const Eigen::Isometry3d& pose = folder.poses()[i].pose;
     Scan scan;
     scan.origin = pose.translation();
+    scan.pose = pose;
     scan.points.reserve(cloud.points.size());
     for (const Eigen::Vector3d& p : cloud.points) scan.points.push_back(pose * p);
     set.scans.push_back(std::move(scan));

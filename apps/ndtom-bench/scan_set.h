@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,9 @@ namespace ndtom::bench {
 struct Scan {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< sensor position, world frame (m)
   std::vector<Eigen::Vector3d> points;               ///< world frame, finite, not at the origin
+  /// Sensor -> world (its translation is `origin`): registration takes the scan back to the
+  /// sensor frame.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
 };
 
 struct ScanSet {

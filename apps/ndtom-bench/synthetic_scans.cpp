@@ -79,6 +79,7 @@ Scan spinOnce(const std::vector<Aabb>& scene, const Eigen::Isometry3d& pose, std
   std::normal_distribution<double> noise(0.0, L::kRangeNoise);
   Scan scan;
   scan.origin = pose.translation();
+  scan.pose = pose;
   scan.points.reserve(L::kRings * L::kAzimuthSteps);
   for (int ring = 0; ring < L::kRings; ++ring) {
     const double elevation = (L::kElevationLowDeg + (L::kElevationTopDeg - L::kElevationLowDeg) *

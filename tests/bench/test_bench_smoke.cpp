@@ -198,6 +198,72 @@ TEST(BenchThreads, TwoThreadRunsReportIdentityAndBothSpeedups) {
               1e-3 * std::stod(t2.at("speedup_vs_t1")));
   const std::string out = readFile(dir / "out.txt");
   EXPECT_NE(out.find("side by side ("), std::string::npos) << out;
+
+  // Amdahl from the one-thread run's stage profile: the same p and predictions in both rows,
+  // each the formula of p, rising with the threads within [1, n]; CPU against one thread.
+  for (const auto* row : {&t1, &t2}) {
+    const double p = std::stod(row->at("parallel_fraction_t1"));
+    EXPECT_GE(p, 0.0);
+    EXPECT_LE(p, 1.0);
+    EXPECT_EQ(row->at("parallel_fraction_t1"), t1.at("parallel_fraction_t1"));
+    double last = 1;
+    for (const int n : {2, 4, 8, 16}) {
+      const double s = std::stod(row->at("predicted_s" + std::to_string(n)));
+      EXPECT_NEAR(s, 1 / ((1 - p) + p / n), 1e-4 * s) << n;
+      EXPECT_GE(s, last) << n;
+      EXPECT_LE(s, n + 1e-9) << n;
+      last = s;
+    }
+  }
+  EXPECT_DOUBLE_EQ(std::stod(t1.at("cpu_ratio_vs_t1")), 1.0);
+  EXPECT_GT(std::stod(t2.at("cpu_ratio_vs_t1")), 0.0);
+
+  // The stages file beside the CSV: per run, the stages within the timed total, serial plus
+  // parallel each stage's wall, busy time within threads x parallel wall; p from its totals.
+  const std::vector<std::string> stage_lines = split(readFile(dir / "out.stages.csv"), '\n');
+  ASSERT_GE(stage_lines.size(), 2u);
+  const std::vector<std::string> stage_header = split(stage_lines[0], ',');
+  std::map<std::string, double> stage_sums, totals, parallel_totals;
+  std::map<std::string, std::vector<std::string>> stage_names;
+  for (size_t i = 1; i < stage_lines.size(); ++i) {
+    if (stage_lines[i].empty()) continue;
+    const std::vector<std::string> cells = split(stage_lines[i], ',');
+    std::map<std::string, std::string> c;
+    for (size_t k = 0; k < cells.size() && k < stage_header.size(); ++k)
+      c[stage_header[k]] = cells[k];
+    const std::string system = c["system"];
+    const double wall = std::stod(c["wall_s"]), serial = std::stod(c["serial_s"]);
+    const double parallel = std::stod(c["parallel_wall_s"]), busy = std::stod(c["busy_s"]);
+    SCOPED_TRACE(system + " " + c["stage"]);
+    EXPECT_NEAR(serial + parallel, wall, 1e-6 + 1e-6 * wall);
+    EXPECT_LE(busy, std::stod(c["threads"]) * parallel * (1 + 1e-6) + 1e-9);
+    if (c["stage"] == "(all)") {
+      totals[system] = wall;
+      parallel_totals[system] = parallel;
+    } else {
+      stage_sums[system] += wall;
+      stage_names[system].push_back(c["stage"]);
+    }
+  }
+  for (const char* system :
+       {"ndtom-point/t1", "ndtom-point/t2", "registration-p2d/t1", "registration-p2d/t2"}) {
+    SCOPED_TRACE(system);
+    ASSERT_EQ(totals.count(system), 1u);
+    EXPECT_LE(stage_sums[system], totals[system] * (1 + 1e-6));
+    EXPECT_GT(stage_sums[system], 0.5 * totals[system]);
+  }
+  EXPECT_EQ(
+      stage_names["ndtom-point/t1"],
+      (std::vector<std::string>{"setup", "classify", "sort", "group", "trace", "apply", "record"}));
+  EXPECT_EQ(stage_names["registration-p2d/t1"],
+            (std::vector<std::string>{"setup", "pyramid", "scan levels", "newton", "verdict"}));
+  EXPECT_NEAR(std::stod(t1.at("parallel_fraction_t1")),
+              parallel_totals["ndtom-point/t1"] / totals["ndtom-point/t1"], 1e-5);
+  // Registration: two poses per thread count, the same for both.
+  EXPECT_NE(out.find("| balm-realworld | registration-p2d/t2 | 0.80 | 2 |"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("| yes |"), std::string::npos) << out;
+  EXPECT_NE(out.find("S(16) predicted"), std::string::npos) << out;
   fs::remove_all(dir);
 }
 
@@ -207,7 +273,8 @@ TEST(BenchBadInput, FailsWithOneLineMessage) {
   for (const std::string& args : std::vector<std::string>{
            "", "--dataset /nonexistent/dataset", "--dataset " + kData + " --resolutions abc",
            "--dataset " + kData + " --systems bogus", "--dataset " + kData + " --scans 99",
-           "--dataset " + kData + " --frobnicate 1"}) {
+           "--dataset " + kData + " --frobnicate 1",
+           "--dataset " + kData + " --registration-scans -1"}) {
     SCOPED_TRACE(args);
     EXPECT_NE(runBench(dir, args), 0);
     const std::string err = readFile(dir / "err.txt");
