@@ -139,6 +139,27 @@ TEST(StageProfile, PoolRegionsAreTimedInTheOpenStageOnly) {
   EXPECT_EQ(p.stages[1].regions, 1u);
 }
 
+TEST(StageProfile, ANestedCallAddingStagesLeavesTheOuterStageIntact) {
+  WorkerPool pool;
+  StageProfile p;
+  StageClock outer(&p);
+  outer.next("outer");
+  {
+    StageClock inner(&p);
+    inner.next("inner");  // the vector grows: the outer stage moves
+    pool.run(2, [](size_t) { sleepMs(2); });
+  }
+  pool.run(2, [](size_t) { sleepMs(2); });
+  outer.stop();
+  ASSERT_EQ(names(p), (std::vector<std::string>{"outer", "inner"}));
+  EXPECT_EQ(p.stages[0].regions, 1u);
+  EXPECT_EQ(p.stages[1].regions, 1u);
+  EXPECT_GE(p.stages[0].wall_seconds, p.stages[1].wall_seconds);  // it holds the inner call
+  // All closed: nothing more.
+  pool.run(2, [](size_t) {});
+  EXPECT_EQ(p.stages[0].regions + p.stages[1].regions, 2u);
+}
+
 TEST(StageProfile, IsNoOption) {
   StageProfile profile;
   MapOptions a, b;

@@ -43,28 +43,30 @@ class WorkerPool {
   /// and each task's time are added to the stage.
   template <class Task>
   void run(size_t threads, Task&& task) {
-    StageTimes* const stage = t_open_stage;
-    if (!stage) return runRound(threads, task);
+    const OpenStage open = t_open_stage;
+    if (!open.profile) return runRound(threads, task);
     std::vector<double> busy;
     try {
       busy.assign(std::max<size_t>(threads, 1), 0.0);
     } catch (...) {  // out of memory: unprofiled
       return runRound(threads, task);
     }
-    t_open_stage = nullptr;  // a region inside a task is part of this one
+    t_open_stage = {};  // a region inside a task is part of this one
     struct Restore {
-      StageTimes* stage;
-      ~Restore() { t_open_stage = stage; }
-    } restore{stage};
+      OpenStage open;
+      ~Restore() { t_open_stage = open; }
+    } restore{open};
     const Clock::time_point start = Clock::now();
     runRound(threads, [&](size_t t) {
       const Clock::time_point task_start = Clock::now();
       task(t);
       busy[t] = secondsSince(task_start);
     });
-    stage->parallel_wall_seconds += secondsSince(start);
-    for (const double b : busy) stage->busy_seconds += b;
-    ++stage->regions;
+    const double wall = secondsSince(start);
+    StageTimes& stage = *open.get();  // after the tasks: they may have added stages
+    stage.parallel_wall_seconds += wall;
+    for (const double b : busy) stage.busy_seconds += b;
+    ++stage.regions;
   }
 
  private:

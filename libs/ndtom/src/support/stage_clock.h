@@ -1,6 +1,8 @@
 // Timing of a profiled call's stages (StageProfile): private to the library.
 #pragma once
 
+#include <cstddef>
+
 #include "ndtom/support/stage_profile.h"
 #include "support/elapsed.h"
 
@@ -8,8 +10,14 @@ namespace ndtom {
 
 /// The stage the calling thread is timing, if any: WorkerPool::run adds its regions to it.
 /// Per thread, so that no pool needs to be told (a pyramid's own pool is timed too), and a
-/// region's tasks, which run with none, record nothing twice.
-inline thread_local StageTimes* t_open_stage = nullptr;
+/// region's tasks, which run with none, record nothing twice. By index: a nested profiled
+/// call may add stages, moving the vector.
+struct OpenStage {
+  StageProfile* profile = nullptr;
+  size_t index = 0;
+  StageTimes* get() const { return profile ? &profile->stages[index] : nullptr; }
+};
+inline thread_local OpenStage t_open_stage;
 
 /// Times a call's stages one after the other: next("sort") ends the stage before it; the
 /// destructor ends the last. Without a profile it does nothing but check the pointer.
@@ -25,14 +33,15 @@ class StageClock {
     const Clock::time_point now = Clock::now();
     close(now);
     try {
-      open_ = &profile_->stage(name);
+      StageTimes& stage = profile_->stage(name);
+      open_ = size_t(&stage - profile_->stages.data());
     } catch (...) {  // out of memory: the call goes on unprofiled
       profile_ = nullptr;
       return;
     }
-    ++open_->calls;
+    ++profile_->stages[open_].calls;
     outer_ = t_open_stage;
-    t_open_stage = open_;
+    t_open_stage = {profile_, open_};
     start_ = now;
   }
   void stop() noexcept {
@@ -40,16 +49,18 @@ class StageClock {
   }
 
  private:
+  static constexpr size_t kNone = size_t(-1);
+
   void close(Clock::time_point now) noexcept {
-    if (!open_) return;
-    open_->wall_seconds += std::chrono::duration<double>(now - start_).count();
+    if (open_ == kNone) return;
+    profile_->stages[open_].wall_seconds += std::chrono::duration<double>(now - start_).count();
     t_open_stage = outer_;
-    open_ = nullptr;
+    open_ = kNone;
   }
 
   StageProfile* profile_;
-  StageTimes* open_ = nullptr;
-  StageTimes* outer_ = nullptr;
+  size_t open_ = kNone;  ///< index of the open stage in profile_->stages
+  OpenStage outer_;
   Clock::time_point start_;
 };
 
@@ -57,13 +68,13 @@ class StageClock {
 /// time remains its stage's serial time.
 class SerialRegion {
  public:
-  SerialRegion() noexcept : outer_(t_open_stage) { t_open_stage = nullptr; }
+  SerialRegion() noexcept : outer_(t_open_stage) { t_open_stage = {}; }
   ~SerialRegion() { t_open_stage = outer_; }
   SerialRegion(const SerialRegion&) = delete;
   SerialRegion& operator=(const SerialRegion&) = delete;
 
  private:
-  StageTimes* outer_;
+  OpenStage outer_;
 };
 
 }  // namespace ndtom

@@ -26,7 +26,7 @@ struct StageTimes {
 };
 
 /// Filled on the thread that inserts or registers, unsynchronised: one profile per such
-/// thread. Stages do not nest: give a profile to one call at a time.
+/// thread. A profiled call made inside another's stage counts in that stage's wall time too.
 struct StageProfile {
   std::vector<StageTimes> stages;  ///< in the order first run
 
