@@ -103,6 +103,13 @@ TEST(CellRules, LoaderRefusesWhatNoMapCanHold) {
   bad.scatter(2, 2) = -1e-3;
   EXPECT_NE(loadError(oneCell({0, 0, 0}, 1.f, bad)).find("not positive semi-definite"),
             std::string::npos);
+  // A negative spread along an axis, the others spreading nothing: every minor and the
+  // determinant are 0, so only the diagonal shows it.
+  bad = good;
+  bad.scatter.setZero();
+  bad.scatter(0, 0) = -1e-3;
+  EXPECT_NE(loadError(oneCell({0, 0, 0}, 1.f, bad)).find("not positive semi-definite"),
+            std::string::npos);
   bad = good;
   bad.relative_mean.x() = std::nextafter(half, 1.0);  // one ulp outside the closed cell
   EXPECT_NE(loadError(oneCell({0, 0, 0}, 1.f, bad)).find("mean outside its cell"),

@@ -63,6 +63,9 @@ TEST(MapQueries, NumOccupiedFollowsCellState) {
   });
   EXPECT_EQ(occupied, 2u);
   EXPECT_EQ(map.numOccupied(), 2u);
+  EXPECT_EQ(ndtom::cellState(map, *map.cell({0, 0, 0})), CellState::Unknown)
+      << "log-odds 0 is neither free nor occupied";
+  EXPECT_EQ(ndtom::cellState(map, *map.cell({1, 0, 0})), CellState::Free);
 
   // Occupancy off (Recursive NDT): a cell with points is occupied whatever its log-odds (one
   // at 0, as a file or setCell may hold it, was not counted by "log-odds > 0").
