@@ -22,9 +22,17 @@ cmake --build build -j"$jobs" >/dev/null
 ctest --test-dir build -j"$jobs" >/dev/null || { echo "mutation-check: the unmutated tests fail" >&2; exit 1; }
 
 killed=0 survived=0 stale=0 n=0
-while IFS='|' read -r file old new why; do
-  [[ -z "$file" || "$file" == \#* ]] && continue
+while IFS= read -r line; do
+  [[ -z "$line" || "$line" == \#* ]] && continue
   n=$((n + 1))
+  # Exactly four fields: a "|" in the code (as in "||") would cut the entry elsewhere.
+  bars=${line//[^|]/}
+  if [[ ${#bars} -ne 3 ]]; then
+    echo "[$n] STALE     not 4 fields separated by '|' (no '|' may occur in the code): $line"
+    stale=$((stale + 1))
+    continue
+  fi
+  IFS='|' read -r file old new why <<<"$line"
   cp "$file" "$file.orig"
   if ! python3 - "$file" "$old" "$new" <<'PY'
 import sys

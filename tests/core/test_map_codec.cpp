@@ -228,6 +228,33 @@ TEST(MapCodec, CountsAreCheckedAgainstTheBytesLeft) {
   EXPECT_THROW(ndtom::decodeMap(head.data(), head.size(), "overlap"), ndtom::MapFormatError);
 }
 
+// Blocks come in ascending order, each once: a file naming a block twice (its cells twice) is
+// refused. Made from two maps whose only difference is the second block's index, so the one
+// differing byte is that index's delta, then set to 0 (the same block again).
+TEST(MapCodec, ABlockNamedTwiceIsRefused) {
+  const auto twoBlocks = [](int32_t second_z) {
+    NdtMap map;
+    map.setCell({1, 1, 1}, -0.4f, {});
+    map.setCell({1, 1, 1 + 8 * second_z}, -0.4f, {});
+    return ndtom::encodeMap(map);
+  };
+  const auto next = twoBlocks(1), further = twoBlocks(2);
+  ASSERT_EQ(next.size(), further.size());
+  std::vector<size_t> differ;
+  for (size_t i = 0; i + 4 < next.size(); ++i)
+    if (next[i] != further[i]) differ.push_back(i);
+  ASSERT_EQ(differ.size(), 1u) << "the blocks' bytes differ elsewhere than the index";
+  auto twice = next;
+  twice[differ[0]] = 0;  // zigzag delta 0
+  twice = withCrc(twice);
+  try {
+    const NdtMap loaded = ndtom::decodeMap(twice.data(), twice.size(), "block twice");
+    FAIL() << "loaded with " << loaded.numCells() << " cells";
+  } catch (const ndtom::MapFormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("out of order"), std::string::npos) << e.what();
+  }
+}
+
 namespace {
 
 // Version 1's cells, read here from the layout in map_io.h without the library.
