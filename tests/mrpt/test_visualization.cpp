@@ -234,9 +234,12 @@ TEST(Visualization, DetailIsLoweredToTheTriangleBudget) {
     for (uint32_t requested = 0; requested <= 4; ++requested) {
       const uint32_t s = subdivisionsWithinBudget(drawn, requested);
       EXPECT_LE(s, requested);
-      if (s > 0) EXPECT_LE(drawn * trianglesPerEllipsoid(s), kMaxSceneTriangles) << drawn;
-      if (s < requested)  // lowered only as far as needed
+      if (s > 0) {
+        EXPECT_LE(drawn * trianglesPerEllipsoid(s), kMaxSceneTriangles) << drawn;
+      }
+      if (s < requested) {  // lowered only as far as needed
         EXPECT_GT(drawn * trianglesPerEllipsoid(s + 1), kMaxSceneTriangles) << drawn;
+      }
     }
   // A map of ~1000 Gaussians: detail 4 would be 2 million triangles.
   auto map = CNDTOccupancyMap::Create(0.5);

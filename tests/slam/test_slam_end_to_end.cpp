@@ -62,7 +62,7 @@ TEST(SlamEndToEnd, MapsTheShippedScansAndItsTrajectoryRebuildsTheSameMap) {
 
 TEST(SlamEndToEnd, OptionsThatGivePosesAreRefused) {
   TempDir dir;
-  for (const std::string option : {"--poses " + quoted(kLidar + "/poses.txt"), std::string("--passes 2"),
+  for (const std::string& option : {"--poses " + quoted(kLidar + "/poses.txt"), std::string("--passes 2"),
                                    std::string("--resident-budget 10")}) {
     const ProgramRun run = runExecutable(
         kSlam, quoted(kLidar) + " -o " + quoted((dir / "x").string()) + " " + option, dir);
