@@ -50,8 +50,12 @@ Result NdtObjective::sumOverItems(PerItem&& per_item) const {
   std::vector<Result> partial(chunks);
   const size_t threads = std::max<size_t>(1, std::min<size_t>(size_t(threads_), chunks));
   pool_.run(threads, [&](size_t t) {
-    for (size_t c = t; c < chunks; c += threads)
-      for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) per_item(i, partial[c]);
+    // Summed on this thread's stack, stored once: neighbouring chunks' sums share cache lines.
+    for (size_t c = t; c < chunks; c += threads) {
+      Result sum;
+      for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) per_item(i, sum);
+      partial[c] = sum;
+    }
   });
   Result total;
   for (const Result& p : partial) total.add(p);
