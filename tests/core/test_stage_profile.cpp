@@ -247,7 +247,7 @@ TEST(StageProfile, RegistrationStagesAddUpAndChangeNothing) {
     EXPECT_GE(profile.wallSeconds(), 0.9 * r.seconds);
     expectConsistent(profile, threads);
     EXPECT_EQ(profile.find("setup")->regions, 0u);
-    EXPECT_EQ(profile.find("scan levels")->regions, 0u);  // one thread by design
+    EXPECT_GT(profile.find("scan levels")->regions, 0u);  // keys, sort, groups split
     EXPECT_GT(profile.find("pyramid")->regions, 0u);      // built by this first call
     EXPECT_GT(profile.find("newton")->regions, 0u);
     // A second call finds the pyramid built: its stage is then nearly nothing.

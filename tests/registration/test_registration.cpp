@@ -232,16 +232,22 @@ TEST(Registration, SameResultForOneAndTwoThreads) {
     RegistrationOptions o;
     o.method = method;
     NdtRegistration one(o);
-    o.threads = 2;
-    NdtRegistration two(o);
     const RegistrationResult a = one.align(c.map, c.scan, guess);
-    const RegistrationResult b = two.align(c.map, c.scan, guess);
-    EXPECT_EQ(a.pose.matrix(), b.pose.matrix()) << toString(method);
-    EXPECT_EQ(a.covariance, b.covariance);
-    EXPECT_EQ(a.score, b.score);
-    ASSERT_EQ(a.levels.size(), b.levels.size());
-    for (size_t l = 0; l < a.levels.size(); ++l)
-      EXPECT_EQ(a.levels[l].iterations, b.levels[l].iterations);
+    for (const int threads : {2, 3}) {
+      SCOPED_TRACE(std::string(toString(method)) + ", threads " + std::to_string(threads));
+      o.threads = threads;
+      NdtRegistration many(o);
+      const RegistrationResult b = many.align(c.map, c.scan, guess);
+      EXPECT_EQ(a.pose.matrix(), b.pose.matrix());
+      EXPECT_EQ(a.covariance, b.covariance);
+      EXPECT_EQ(a.score, b.score);
+      EXPECT_EQ(a.free_fraction, b.free_fraction);
+      EXPECT_EQ(a.judged_fraction, b.judged_fraction);
+      EXPECT_EQ(a.matched_fraction, b.matched_fraction);
+      ASSERT_EQ(a.levels.size(), b.levels.size());
+      for (size_t l = 0; l < a.levels.size(); ++l)
+        EXPECT_EQ(a.levels[l].iterations, b.levels[l].iterations);
+    }
   }
 }
 

@@ -171,14 +171,16 @@ struct NdtRegistration::State {
     const double finest_voxel =
         resolutions.back() * (o.method == RegistrationMethod::P2D ? o.voxel_ratio : 1.0);
     const std::vector<Eigen::Vector3d> points =
-        registration::usablePoints(scan, o.min_range, o.max_range, finest_voxel);
+        registration::usablePoints(scan, o.min_range, o.max_range, finest_voxel, pool,
+                                   size_t(o.threads));
     if (points.empty())
       throw std::invalid_argument("registration: the scan has no finite point within [" +
                                   std::to_string(o.min_range) + ", " + std::to_string(o.max_range) +
                                   "] m of the sensor");
     const uint64_t key = scanKey(points, resolutions, o, map.options().regularization);
     if (key != scan_key || levels.empty()) {
-      levels = registration::buildScanLevels(points, resolutions, o, map.options().regularization);
+      levels = registration::buildScanLevels(points, resolutions, o, map.options().regularization,
+                                             {pool, size_t(o.threads)});
       scan_key = key;
     }
     return levels;
@@ -263,7 +265,8 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   clock.next("verdict");
   const LevelReport& last = result.levels.back();
   result.score = last.score;
-  const SpaceFractions space = spaceFractions(map, objectives.back(), levels.back(), result.pose);
+  const SpaceFractions space = spaceFractions(map, objectives.back(), levels.back(), result.pose,
+                                                 {state_->pool, size_t(o.threads)});
   result.free_fraction = space.free;
   result.judged_fraction = 1 - space.unknown;
   // Matched items are judged ones: of those, the matched share.

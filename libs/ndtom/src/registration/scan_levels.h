@@ -9,6 +9,7 @@
 #include "ndtom/map/cell_stats.h"
 #include "ndtom/map/gaussian.h"
 #include "ndtom/registration/registration.h"
+#include "support/parallel.h"
 
 namespace ndtom::registration {
 
@@ -30,15 +31,29 @@ struct ScanCell {
   CellStats stats;
 };
 
+/// The threads a function may use: up to `threads` of `pool`. Results never depend on them.
+struct Threads {
+  WorkerPool& pool;
+  size_t threads = 1;
+};
+
 /// Points (sensor frame, finite) grouped by cells of edge `cell_size`, in cell order.
 std::vector<ScanCell> groupPoints(const std::vector<Eigen::Vector3d>& points, double cell_size);
+std::vector<ScanCell> groupPoints(const std::vector<Eigen::Vector3d>& points, double cell_size,
+                                  Threads threads);
 /// Cells grouped again by the cell of edge `cell_size` holding their mean, merged exactly.
-std::vector<ScanCell> regroup(const std::vector<ScanCell>& cells, double cell_size);
+std::vector<ScanCell> regroup(const std::vector<ScanCell>& cells, double cell_size,
+                              Threads threads);
 
 /// One ScanLevel per level of `resolutions` (coarse to fine, m), as `options` say.
 std::vector<ScanLevel> buildScanLevels(const std::vector<Eigen::Vector3d>& points,
                                        const std::vector<double>& resolutions,
                                        const RegistrationOptions& options,
                                        const Regularization& regularization);
+/// The same on up to `threads.threads` threads (options.threads is not read): the same levels.
+std::vector<ScanLevel> buildScanLevels(const std::vector<Eigen::Vector3d>& points,
+                                       const std::vector<double>& resolutions,
+                                       const RegistrationOptions& options,
+                                       const Regularization& regularization, Threads threads);
 
 }  // namespace ndtom::registration

@@ -4,6 +4,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "support/parallel.h"
+
 namespace ndtom::registration {
 
 /// Farther points are glitches, whatever max_range says (m).
@@ -13,5 +15,9 @@ inline constexpr double kMaxUsableRange = 1e6;
 /// sensor and under kMaxUsableRange, and whose cells a grid of `cell_size` can index.
 std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& scan,
                                           double min_range, double max_range, double cell_size);
+/// The same, filtered on up to `threads` threads of `pool`, in the scan's order.
+std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& scan,
+                                          double min_range, double max_range, double cell_size,
+                                          WorkerPool& pool, size_t threads);
 
 }  // namespace ndtom::registration

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <sstream>
+#include <vector>
 
 #include "registration/newton_search.h"
 
@@ -28,28 +29,42 @@ bool inOpenFreeSpace(const NdtMap& map, const CellIndex& cell) {
 }  // namespace
 
 SpaceFractions spaceFractions(const NdtMap& map, const NdtObjective& finest, const ScanLevel& level,
-                              const Eigen::Isometry3d& pose) {
+                              const Eigen::Isometry3d& pose, Threads threads) {
   SpaceFractions out;
-  if (!map.options().occupancy.enabled || level.size() == 0) return out;
-  size_t free = 0, unknown = 0;
-  for (size_t i = 0; i < level.size(); ++i) {
-    const Eigen::Vector3d p = pose * (level.points.empty() ? level.gaussians[i].mean : level.points[i]);
-    if (!map.geometry().inRange(p)) {
-      unknown += !finest.matches(pose, i);
-      continue;
+  const size_t n = level.size();
+  if (!map.options().occupancy.enabled || n == 0) return out;
+  constexpr size_t kMinItemsPerThread = 512;  // each looks up a cell and maybe 27 more
+  const size_t parts = std::clamp<size_t>(n / kMinItemsPerThread, 1, threads.threads);
+  std::vector<std::array<size_t, 2>> counts(parts, {0, 0});  // free, unknown (whole: any order)
+  threads.pool.run(parts, [&](size_t t) {
+    const auto [begin, end] = partRange(n, parts, t);
+    size_t free = 0, unknown = 0;
+    for (size_t i = begin; i < end; ++i) {
+      const Eigen::Vector3d p =
+          pose * (level.points.empty() ? level.gaussians[i].mean : level.points[i]);
+      if (!map.geometry().inRange(p)) {
+        unknown += !finest.matches(pose, i);
+        continue;
+      }
+      // The map judges with its Gaussians and its free space: an occupied cell too thin to
+      // hold a Gaussian (a sparse lidar's far surfaces) says nothing of where a point should be.
+      const CellIndex cell = map.geometry().cellOf(p);
+      const auto c = map.cell(cell);
+      const bool judging = c && (c->logodds < 0.f || (c->stats && c->stats->hasGaussian()));
+      if (!judging)
+        unknown += !finest.matches(pose, i);
+      else
+        free += inOpenFreeSpace(map, cell);
     }
-    // The map judges with its Gaussians and its free space: an occupied cell too thin to
-    // hold a Gaussian (a sparse lidar's far surfaces) says nothing of where a point should be.
-    const CellIndex cell = map.geometry().cellOf(p);
-    const auto c = map.cell(cell);
-    const bool judging = c && (c->logodds < 0.f || (c->stats && c->stats->hasGaussian()));
-    if (!judging)
-      unknown += !finest.matches(pose, i);
-    else
-      free += inOpenFreeSpace(map, cell);
+    counts[t] = {free, unknown};
+  });
+  size_t free = 0, unknown = 0;
+  for (const auto& [f, u] : counts) {
+    free += f;
+    unknown += u;
   }
-  out.free = double(free) / double(level.size());
-  out.unknown = double(unknown) / double(level.size());
+  out.free = double(free) / double(n);
+  out.unknown = double(unknown) / double(n);
   return out;
 }
 

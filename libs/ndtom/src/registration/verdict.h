@@ -21,8 +21,9 @@ struct SpaceFractions {
   double free = 0;
   double unknown = 0;
 };
+/// Counted on up to `threads.threads` threads: the same fractions for any count.
 SpaceFractions spaceFractions(const NdtMap& map, const NdtObjective& finest, const ScanLevel& level,
-                              const Eigen::Isometry3d& pose);
+                              const Eigen::Isometry3d& pose, Threads threads);
 
 /// The pose's covariance over the free parameters (fixed ones get zero rows and columns), from
 /// the finest level's information, and whether the matched terms constrain every free one.
