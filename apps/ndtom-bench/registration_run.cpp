@@ -17,7 +17,8 @@ Eigen::Isometry3d offsetGuess(const Eigen::Isometry3d& pose) {
 }
 
 RunResult runRegistration(const NdtMap& map, const ScanSet& set, size_t scans, int threads,
-                          apps::Progress& progress, std::vector<Eigen::Isometry3d>& poses) {
+                          apps::Progress& progress, std::vector<Eigen::Isometry3d>& poses,
+                          RunResult& pyramid) {
   using Clock = std::chrono::steady_clock;
   RunResult r;
   r.dataset = set.name;
@@ -33,10 +34,22 @@ RunResult runRegistration(const NdtMap& map, const ScanSet& set, size_t scans, i
     sensor[i].reserve(set.scans[i].points.size());
     for (const Eigen::Vector3d& p : set.scans[i].points) sensor[i].push_back(to_sensor * p);
   }
+  pyramid = RunResult{};
+  pyramid.dataset = r.dataset;
+  pyramid.label = "pyramid/t" + std::to_string(threads);
+  pyramid.threads = threads;
+  pyramid.resolution = r.resolution;
+  pyramid.repeats = 1;
   RegistrationOptions o;
   o.threads = threads;
+  StageProfile first_call;
+  o.profile = &first_call;
   NdtRegistration registration(o);
-  if (scans > 0) registration.align(map, sensor[0], offsetGuess(set.scans[0].pose));  // pyramid
+  if (scans > 0) registration.align(map, sensor[0], offsetGuess(set.scans[0].pose));
+  if (const StageTimes* built = first_call.find("pyramid")) {
+    pyramid.stages.stages.push_back(*built);
+    pyramid.scan_seconds.push_back(built->wall_seconds);
+  }
   o.profile = &r.stages;
   registration.setOptions(o);  // same levels: the pyramid stays
   poses.clear();

@@ -257,6 +257,14 @@ TEST(BenchThreads, TwoThreadRunsReportIdentityAndBothSpeedups) {
       (std::vector<std::string>{"setup", "classify", "sort", "group", "trace", "apply", "record"}));
   EXPECT_EQ(stage_names["registration-p2d/t1"],
             (std::vector<std::string>{"setup", "pyramid", "scan levels", "newton", "verdict"}));
+  // The pyramid, built by the first call of each registration run, on its own row.
+  for (const char* system : {"pyramid/t1", "pyramid/t2"}) {
+    SCOPED_TRACE(system);
+    ASSERT_EQ(totals.count(system), 1u);
+    EXPECT_EQ(stage_names[system], std::vector<std::string>{"pyramid"});
+    EXPECT_GT(parallel_totals[system], 0);  // its levels are built on the worker pool
+    EXPECT_LE(parallel_totals[system], totals[system] * (1 + 1e-6));
+  }
   EXPECT_NEAR(std::stod(t1.at("parallel_fraction_t1")),
               parallel_totals["ndtom-point/t1"] / totals["ndtom-point/t1"], 1e-5);
   // Registration: two poses per thread count, the same for both.
