@@ -13,8 +13,6 @@
 namespace ndtom::eval {
 
 namespace {
-constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
-const cv::Scalar kText{20, 20, 20};
 constexpr int kTitleRows = 40;  // above the picture
 }  // namespace
 
@@ -96,12 +94,12 @@ void ObliqueRender::write(const std::string& path, const std::string& title,
   if (path_.size() > 1) cv::polylines(image, path_, false, path_colour_, 3, cv::LINE_AA);
 
   cv::rectangle(image, {0, 0}, {width_, kTitleRows - 6}, cv::Scalar::all(255), cv::FILLED);
-  cv::putText(image, title, {12, 26}, kFont, 0.7, kText, 1, cv::LINE_AA);
+  cv::putText(image, title, {12, 26}, kLabelFont, 0.7, kLabelInk, 1, cv::LINE_AA);
   int y = kTitleRows + 20;
   for (const auto& [text, colour] : legend) {
     cv::rectangle(image, {12, y - 12}, {28, y + 4}, colour, cv::FILLED);
-    cv::rectangle(image, {12, y - 12}, {28, y + 4}, kText, 1);
-    cv::putText(image, text, {36, y + 2}, kFont, 0.55, kText, 1, cv::LINE_AA);
+    cv::rectangle(image, {12, y - 12}, {28, y + 4}, kLabelInk, 1);
+    cv::putText(image, text, {36, y + 2}, kLabelFont, 0.55, kLabelInk, 1, cv::LINE_AA);
     y += 24;
   }
   if (height_bar) {
@@ -110,15 +108,15 @@ void ObliqueRender::write(const std::string& path, const std::string& title,
       cv::line(image, {x, row}, {x + 18, row}, viridis(double(bottom - row) / (bottom - top)));
     char label[32];
     std::snprintf(label, sizeof label, "z %.1f m", height_bar->second);
-    cv::putText(image, label, {x - 95, top + 5}, kFont, 0.5, kText, 1, cv::LINE_AA);
+    cv::putText(image, label, {x - 95, top + 5}, kLabelFont, 0.5, kLabelInk, 1, cv::LINE_AA);
     std::snprintf(label, sizeof label, "z %.1f m", height_bar->first);
-    cv::putText(image, label, {x - 95, bottom + 5}, kFont, 0.5, kText, 1, cv::LINE_AA);
+    cv::putText(image, label, {x - 95, bottom + 5}, kLabelFont, 0.5, kLabelInk, 1, cv::LINE_AA);
   }
   // Scale bar for horizontal distances across the picture (exact along the image's x axis).
   const double bar = width_ / pixels_per_metre_ > 60 ? 10 : 5;
   const int length = int(std::lround(bar * pixels_per_metre_)), by = height_ - 20;
-  cv::line(image, {20, by}, {20 + length, by}, kText, 3);
-  cv::putText(image, cv::format("%g m", bar), {28 + length, by + 5}, kFont, 0.6, kText, 1,
+  cv::line(image, {20, by}, {20 + length, by}, kLabelInk, 3);
+  cv::putText(image, cv::format("%g m", bar), {28 + length, by + 5}, kLabelFont, 0.6, kLabelInk, 1,
               cv::LINE_AA);
   if (!cv::imwrite(path, image, {cv::IMWRITE_PNG_COMPRESSION, 9}))
     throw std::runtime_error("cannot write " + path);

@@ -11,11 +11,6 @@
 
 namespace ndtom::eval {
 
-namespace {
-constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
-const cv::Scalar kText{20, 20, 20};
-}  // namespace
-
 cv::Scalar viridis(double t) {
   static const cv::Mat lut = [] {
     cv::Mat grey(1, 256, CV_8UC1), colored;
@@ -73,7 +68,7 @@ void TopView::drawLegend(const std::vector<std::pair<std::string, cv::Scalar>>& 
   int y = 25;
   for (const auto& [text, color] : entries) {
     cv::rectangle(image_, {12, y - 12}, {28, y + 4}, color, cv::FILLED);
-    cv::putText(image_, text, {36, y + 2}, kFont, 0.6, kText, 1, cv::LINE_AA);
+    cv::putText(image_, text, {36, y + 2}, kLabelFont, 0.6, kLabelInk, 1, cv::LINE_AA);
     y += 26;
   }
   apps::drawScaleBar(image_, frame_.pixels_per_metre);
@@ -85,9 +80,9 @@ void TopView::drawHeightBar(double z_min, double z_max) {
     cv::line(image_, {x, y}, {x + 18, y}, viridis(double(bottom - y) / (bottom - top)));
   char label[32];
   std::snprintf(label, sizeof(label), "z %.1f m", z_max);
-  cv::putText(image_, label, {x - 95, top + 5}, kFont, 0.5, kText, 1, cv::LINE_AA);
+  cv::putText(image_, label, {x - 95, top + 5}, kLabelFont, 0.5, kLabelInk, 1, cv::LINE_AA);
   std::snprintf(label, sizeof(label), "z %.1f m", z_min);
-  cv::putText(image_, label, {x - 95, bottom + 5}, kFont, 0.5, kText, 1, cv::LINE_AA);
+  cv::putText(image_, label, {x - 95, bottom + 5}, kLabelFont, 0.5, kLabelInk, 1, cv::LINE_AA);
 }
 
 void TopView::write(const std::string& path) const {

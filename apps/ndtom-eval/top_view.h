@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,10 @@
 #include "ndtom_apps/top_canvas.h"
 
 namespace ndtom::eval {
+
+/// The figures' labels: font and ink.
+inline constexpr int kLabelFont = cv::FONT_HERSHEY_SIMPLEX;
+inline const cv::Scalar kLabelInk{20, 20, 20};
 
 class TopView {
  public:

@@ -11,7 +11,7 @@
 namespace ndtom {
 namespace {
 
-constexpr char kMagic[8] = {'N', 'D', 'T', 'O', 'M', 'S', 'P', 'L'};
+constexpr char kSpillMagic[8] = {'N', 'D', 'T', 'O', 'M', 'S', 'P', 'L'};
 constexpr size_t kStatsBytes = 4 + 12 * 8;
 
 using Words = std::array<uint64_t, MapBlock::kWords>;  ///< a cell mask, 64 cells a word
@@ -40,7 +40,7 @@ void forEachBit(const Words& w, F&& f) {
 
 void SpillCodec::write(const NdtMap& map, const MapByteSink& sink) {
   detail::ByteWriter out(sink);  // in chunks, with the running CRC appended by finish()
-  out.bytes(kMagic, sizeof kMagic);
+  out.bytes(kSpillMagic, sizeof kSpillMagic);
   // Blocks without a known cell (insertion can leave some) are not part of the map: dropped.
   uint64_t blocks = 0;
   for (const auto& entry : MapInternals::grid(map).blocks()) blocks += entry.second->known.any();
@@ -72,13 +72,13 @@ NdtMap SpillCodec::read(const std::string& bytes, const MapOptions& options,
                         const std::string& source) {
   const auto* data = reinterpret_cast<const uint8_t*>(bytes.data());
   const std::string name = "spill file " + source;
-  if (bytes.size() < sizeof kMagic + 8 + 4) detail::ByteReader(data, 0, name).fail("cut short");
+  if (bytes.size() < sizeof kSpillMagic + 8 + 4) detail::ByteReader(data, 0, name).fail("cut short");
   detail::ByteReader in(data, bytes.size() - 4, name);  // the CRC after it
   if (crc32(data, bytes.size() - 4) != detail::ByteReader(data + bytes.size() - 4, 4, name).u32())
     in.fail("checksum mismatch");
   char magic[8];
   in.bytes(magic, 8);
-  if (std::memcmp(magic, kMagic, 8) != 0) in.fail("not a spill file");
+  if (std::memcmp(magic, kSpillMagic, 8) != 0) in.fail("not a spill file");
   uint64_t blocks;
   in.bytes(&blocks, 8);
   constexpr size_t kMinBlock = sizeof(CellIndex) + sizeof(Words) + 4 + sizeof(MapBlock::Mask) + 4;
