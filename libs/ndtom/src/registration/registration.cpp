@@ -49,10 +49,23 @@ void mix(uint64_t& h, const void* data, size_t bytes) {
 }
 
 /// What the scan levels depend on, hashed: the points and every option that shapes them.
+/// The points are hashed in fixed chunks on the pool's threads, then the chunks' hashes in
+/// order: the same key for any thread count.
 uint64_t scanKey(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& resolutions,
-                 const RegistrationOptions& o, const Regularization& reg) {
+                 const RegistrationOptions& o, const Regularization& reg, WorkerPool& pool) {
+  constexpr size_t kChunkPoints = 4096;
+  const size_t chunks = (points.size() + kChunkPoints - 1) / kChunkPoints;
+  std::vector<uint64_t> chunk_hashes(chunks, 0xcbf29ce484222325ULL);
+  const size_t threads = std::clamp<size_t>(chunks, 1, size_t(o.threads));
+  pool.run(threads, [&](size_t t) {
+    const auto [first, last] = partRange(chunks, threads, t);
+    for (size_t c = first; c < last; ++c) {
+      const size_t begin = c * kChunkPoints, end = std::min(points.size(), begin + kChunkPoints);
+      mix(chunk_hashes[c], points.data() + begin, (end - begin) * sizeof(Eigen::Vector3d));
+    }
+  });
   uint64_t h = 0xcbf29ce484222325ULL;
-  mix(h, points.data(), points.size() * sizeof(Eigen::Vector3d));
+  mix(h, chunk_hashes.data(), chunk_hashes.size() * sizeof(uint64_t));
   mix(h, resolutions.data(), resolutions.size() * sizeof(double));
   const int method = int(o.method);
   mix(h, &method, sizeof(method));
@@ -177,7 +190,7 @@ struct NdtRegistration::State {
       throw std::invalid_argument("registration: the scan has no finite point within [" +
                                   std::to_string(o.min_range) + ", " + std::to_string(o.max_range) +
                                   "] m of the sensor");
-    const uint64_t key = scanKey(points, resolutions, o, map.options().regularization);
+    const uint64_t key = scanKey(points, resolutions, o, map.options().regularization, pool);
     if (key != scan_key || levels.empty()) {
       levels = registration::buildScanLevels(points, resolutions, o, map.options().regularization,
                                              {pool, size_t(o.threads)});

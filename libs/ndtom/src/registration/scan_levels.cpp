@@ -123,7 +123,9 @@ std::vector<size_t> runStarts(const KeyedCells& keyed, Threads threads) {
   std::vector<size_t> counts(parts + 1, 0);
   threads.pool.run(parts, [&](size_t t) {
     const auto [begin, end] = partRange(n, parts, t);
-    for (size_t i = begin; i < end; ++i) counts[t + 1] += isStart(i);
+    size_t starts_here = 0;  // counted locally: neighbouring parts' counts share a cache line
+    for (size_t i = begin; i < end; ++i) starts_here += isStart(i);
+    counts[t + 1] = starts_here;
   });
   for (size_t t = 0; t < parts; ++t) counts[t + 1] += counts[t];
   std::vector<size_t> starts(counts[parts] + 1);
