@@ -73,7 +73,8 @@ TEST(ScanLevels, UsablePointsAreTheSameForAnyThreadCount) {
     expected += p.allFinite() && p.norm() >= 0.5 && p.norm() <= 60;
   EXPECT_EQ(serial.size(), expected);
   WorkerPool pool;
-  for (const size_t threads : {2, 3, 7}) EXPECT_EQ(usablePoints(scan, 0.5, 60, 0.05, pool, threads), serial);
+  for (const size_t threads : {2, 3, 7})
+    EXPECT_EQ(usablePoints(scan, 0.5, 60, 0.05, {pool, threads}), serial);
 }
 
 TEST(ScanLevels, GroupingMatchesABruteForceGroupingOnAnyThreadCount) {
@@ -129,7 +130,7 @@ TEST(ScanLevels, FewPointsAndNoPointsGiveTheSerialResult) {
   WorkerPool pool;
   const std::vector<Vector3d> none;
   EXPECT_TRUE(groupPoints(none, 0.2, {pool, 4}).empty());
-  EXPECT_TRUE(usablePoints(none, 0, 10, 0.2, pool, 4).empty());
+  EXPECT_TRUE(usablePoints(none, 0, 10, 0.2, {pool, 4}).empty());
   std::mt19937 rng(5);
   std::normal_distribution<double> d(0, 3);
   std::vector<Vector3d> few;

@@ -27,7 +27,7 @@ struct ScanContext {
 
   /// Threads for `items` of work, at least `min_items_per_thread` each, at most the options'.
   size_t threadsFor(size_t items, size_t min_items_per_thread) const {
-    return std::clamp<size_t>(items / min_items_per_thread, 1, size_t(options.threads));
+    return ndtom::threadsFor(items, min_items_per_thread, size_t(options.threads));
   }
 };
 

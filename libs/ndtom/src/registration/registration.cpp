@@ -36,6 +36,8 @@ Eigen::Isometry3d rigidGuess(const Eigen::Isometry3d& guess) {
   return out;
 }
 
+constexpr uint64_t kFnvOffsetBasis = 0xcbf29ce484222325ULL;
+
 // FNV-1a over 8-byte words (then the tail bytes): fast enough to hash a scan per call.
 void mix(uint64_t& h, const void* data, size_t bytes) {
   const auto* p = static_cast<const unsigned char*>(data);
@@ -52,19 +54,19 @@ void mix(uint64_t& h, const void* data, size_t bytes) {
 /// The points are hashed in fixed chunks on the pool's threads, then the chunks' hashes in
 /// order: the same key for any thread count.
 uint64_t scanKey(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& resolutions,
-                 const RegistrationOptions& o, const Regularization& reg, WorkerPool& pool) {
+                 const RegistrationOptions& o, const Regularization& reg, Threads threads) {
   constexpr size_t kChunkPoints = 4096;
   const size_t chunks = (points.size() + kChunkPoints - 1) / kChunkPoints;
-  std::vector<uint64_t> chunk_hashes(chunks, 0xcbf29ce484222325ULL);
-  const size_t threads = std::clamp<size_t>(chunks, 1, size_t(o.threads));
-  pool.run(threads, [&](size_t t) {
-    const auto [first, last] = partRange(chunks, threads, t);
+  std::vector<uint64_t> chunk_hashes(chunks, kFnvOffsetBasis);
+  const size_t parts = threads.forItems(chunks, 1);
+  threads.pool.run(parts, [&](size_t t) {
+    const auto [first, last] = partRange(chunks, parts, t);
     for (size_t c = first; c < last; ++c) {
       const size_t begin = c * kChunkPoints, end = std::min(points.size(), begin + kChunkPoints);
       mix(chunk_hashes[c], points.data() + begin, (end - begin) * sizeof(Eigen::Vector3d));
     }
   });
-  uint64_t h = 0xcbf29ce484222325ULL;
+  uint64_t h = kFnvOffsetBasis;
   mix(h, chunk_hashes.data(), chunk_hashes.size() * sizeof(uint64_t));
   mix(h, resolutions.data(), resolutions.size() * sizeof(double));
   const int method = int(o.method);
@@ -183,17 +185,17 @@ struct NdtRegistration::State {
                                                         const RegistrationOptions& o) {
     const double finest_voxel =
         resolutions.back() * (o.method == RegistrationMethod::P2D ? o.voxel_ratio : 1.0);
+    const Threads threads{pool, size_t(o.threads)};
     const std::vector<Eigen::Vector3d> points =
-        registration::usablePoints(scan, o.min_range, o.max_range, finest_voxel, pool,
-                                   size_t(o.threads));
+        registration::usablePoints(scan, o.min_range, o.max_range, finest_voxel, threads);
     if (points.empty())
       throw std::invalid_argument("registration: the scan has no finite point within [" +
                                   std::to_string(o.min_range) + ", " + std::to_string(o.max_range) +
                                   "] m of the sensor");
-    const uint64_t key = scanKey(points, resolutions, o, map.options().regularization, pool);
+    const uint64_t key = scanKey(points, resolutions, o, map.options().regularization, threads);
     if (key != scan_key || levels.empty()) {
       levels = registration::buildScanLevels(points, resolutions, o, map.options().regularization,
-                                             {pool, size_t(o.threads)});
+                                             threads);
       scan_key = key;
     }
     return levels;

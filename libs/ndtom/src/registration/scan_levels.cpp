@@ -43,10 +43,6 @@ int bitsFor(uint64_t span) {
 // Below this many items a part, waking a thread costs more than the part's work.
 constexpr size_t kMinItemsPerThread = 2048;
 
-size_t threadsFor(size_t items, Threads threads) {
-  return std::clamp<size_t>(items / kMinItemsPerThread, 1, threads.threads);
-}
-
 using KeyedCells = std::vector<std::pair<CellIndex, uint32_t>>;
 
 // Sorts (cell, index) pairs by cell (x major, as CellIndex's operator<), then index. Where the
@@ -54,7 +50,7 @@ using KeyedCells = std::vector<std::pair<CellIndex, uint32_t>>;
 // a radix sort of the words: linear, and 8 bytes per item to move.
 void sortByCell(KeyedCells& keyed, Threads threads) {
   if (keyed.empty()) return;
-  const size_t n = keyed.size(), parts = threadsFor(n, threads);
+  const size_t n = keyed.size(), parts = threads.forItems(n, kMinItemsPerThread);
   std::vector<std::pair<CellIndex, CellIndex>> boxes(parts);
   threads.pool.run(parts, [&](size_t t) {
     const auto [begin, end] = partRange(n, parts, t);
@@ -107,7 +103,7 @@ void sortByCell(KeyedCells& keyed, Threads threads) {
 template <class CellOf>
 KeyedCells keyedByCell(size_t n, CellOf&& cellOf, Threads threads) {
   KeyedCells keyed(n);
-  const size_t parts = threadsFor(n, threads);
+  const size_t parts = threads.forItems(n, kMinItemsPerThread);
   threads.pool.run(parts, [&](size_t t) {
     const auto [begin, end] = partRange(n, parts, t);
     for (size_t i = begin; i < end; ++i) keyed[i] = {cellOf(i), uint32_t(i)};
@@ -118,7 +114,7 @@ KeyedCells keyedByCell(size_t n, CellOf&& cellOf, Threads threads) {
 
 // Where each run of equal cells of sorted `keyed` begins, then keyed.size().
 std::vector<size_t> runStarts(const KeyedCells& keyed, Threads threads) {
-  const size_t n = keyed.size(), parts = threadsFor(n, threads);
+  const size_t n = keyed.size(), parts = threads.forItems(n, kMinItemsPerThread);
   auto isStart = [&](size_t i) { return i == 0 || keyed[i].first != keyed[i - 1].first; };
   std::vector<size_t> counts(parts + 1, 0);
   threads.pool.run(parts, [&](size_t t) {
@@ -146,7 +142,7 @@ std::vector<ScanCell> cellsOfRuns(const KeyedCells& keyed, Threads threads, Make
   const size_t runs = starts.size() - 1;
   std::vector<ScanCell> out(runs);
   // A run's work is a few points: spread the runs as thinly as the items.
-  const size_t parts = std::clamp<size_t>(runs / (kMinItemsPerThread / 8), 1, threads.threads);
+  const size_t parts = threads.forItems(runs, kMinItemsPerThread / 8);
   threads.pool.run(parts, [&](size_t t) {
     const auto [first, last] = partRange(runs, parts, t);
     for (size_t g = first; g < last; ++g) out[g] = makeCell(starts[g], starts[g + 1]);
@@ -206,7 +202,7 @@ std::vector<ScanLevel> buildScanLevels(const std::vector<Eigen::Vector3d>& point
       continue;
     }
     // Each part's Gaussians in cell order, the parts in order: the same list for any threads.
-    const size_t parts = std::clamp<size_t>(cells.size() / 256, 1, threads.threads);
+    const size_t parts = threads.forItems(cells.size(), 256);
     std::vector<std::vector<ScanGaussian>> part_gaussians(parts);
     threads.pool.run(parts, [&](size_t t) {
       const auto [begin, end] = partRange(cells.size(), parts, t);

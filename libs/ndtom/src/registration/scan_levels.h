@@ -31,12 +31,6 @@ struct ScanCell {
   CellStats stats;
 };
 
-/// The threads a function may use: up to `threads` of `pool`. Results never depend on them.
-struct Threads {
-  WorkerPool& pool;
-  size_t threads = 1;
-};
-
 /// Points (sensor frame, finite) grouped by cells of edge `cell_size`, in cell order.
 std::vector<ScanCell> groupPoints(const std::vector<Eigen::Vector3d>& points, double cell_size);
 std::vector<ScanCell> groupPoints(const std::vector<Eigen::Vector3d>& points, double cell_size,

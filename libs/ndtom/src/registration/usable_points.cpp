@@ -1,6 +1,5 @@
 #include "registration/usable_points.h"
 
-#include <algorithm>
 #include <cstdint>
 
 #include "ndtom/map/cell_index.h"
@@ -9,7 +8,7 @@ namespace ndtom::registration {
 
 std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& scan,
                                           double min_range, double max_range, double cell_size,
-                                          WorkerPool& pool, size_t threads) {
+                                          Threads threads) {
   const GridGeometry grid(cell_size);
   auto usable = [&](const Eigen::Vector3d& p) {
     if (!grid.inRange(p)) return false;  // also drops NaN and inf
@@ -19,10 +18,10 @@ std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& sc
   // Each part keeps its usable points' indices; the parts are then copied out in order.
   constexpr size_t kMinPointsPerThread = 4096;
   const size_t n = scan.size();
-  const size_t parts = std::clamp<size_t>(n / kMinPointsPerThread, 1, threads);
+  const size_t parts = threads.forItems(n, kMinPointsPerThread);
   std::vector<std::vector<uint32_t>> kept(parts);
   std::vector<size_t> offsets(parts + 1, 0);
-  pool.run(parts, [&](size_t t) {
+  threads.pool.run(parts, [&](size_t t) {
     const auto [begin, end] = partRange(n, parts, t);
     kept[t].reserve(end - begin);
     for (size_t i = begin; i < end; ++i)
@@ -30,7 +29,7 @@ std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& sc
   });
   for (size_t t = 0; t < parts; ++t) offsets[t + 1] = offsets[t] + kept[t].size();
   std::vector<Eigen::Vector3d> out(offsets[parts]);
-  pool.run(parts, [&](size_t t) {
+  threads.pool.run(parts, [&](size_t t) {
     for (size_t k = 0; k < kept[t].size(); ++k) out[offsets[t] + k] = scan[kept[t][k]];
   });
   return out;
@@ -39,7 +38,7 @@ std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& sc
 std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& scan,
                                           double min_range, double max_range, double cell_size) {
   WorkerPool pool;  // one thread: run() calls back directly, no thread is started
-  return usablePoints(scan, min_range, max_range, cell_size, pool, 1);
+  return usablePoints(scan, min_range, max_range, cell_size, Threads{pool, 1});
 }
 
 }  // namespace ndtom::registration

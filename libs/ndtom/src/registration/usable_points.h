@@ -15,9 +15,9 @@ inline constexpr double kMaxUsableRange = 1e6;
 /// sensor and under kMaxUsableRange, and whose cells a grid of `cell_size` can index.
 std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& scan,
                                           double min_range, double max_range, double cell_size);
-/// The same, filtered on up to `threads` threads of `pool`, in the scan's order.
+/// The same, filtered on up to `threads.threads` threads, in the scan's order.
 std::vector<Eigen::Vector3d> usablePoints(const std::vector<Eigen::Vector3d>& scan,
                                           double min_range, double max_range, double cell_size,
-                                          WorkerPool& pool, size_t threads);
+                                          Threads threads);
 
 }  // namespace ndtom::registration

@@ -34,7 +34,7 @@ SpaceFractions spaceFractions(const NdtMap& map, const NdtObjective& finest, con
   const size_t n = level.size();
   if (!map.options().occupancy.enabled || n == 0) return out;
   constexpr size_t kMinItemsPerThread = 512;  // each looks up a cell and maybe 27 more
-  const size_t parts = std::clamp<size_t>(n / kMinItemsPerThread, 1, threads.threads);
+  const size_t parts = threads.forItems(n, kMinItemsPerThread);
   std::vector<std::array<size_t, 2>> counts(parts, {0, 0});  // free, unknown (whole: any order)
   threads.pool.run(parts, [&](size_t t) {
     const auto [begin, end] = partRange(n, parts, t);

@@ -171,6 +171,22 @@ class WorkerPool {
   bool stop_ = false;
 };
 
+/// Threads for `items` of work, at least `min_items_per_thread` each (starting a thread costs
+/// more than a small part's work), at least one, at most `max_threads`.
+inline size_t threadsFor(size_t items, size_t min_items_per_thread, size_t max_threads) {
+  return std::clamp<size_t>(items / min_items_per_thread, 1, max_threads);
+}
+
+/// The threads a function may use: up to `threads` of `pool`. Results never depend on them.
+struct Threads {
+  WorkerPool& pool;
+  size_t threads = 1;
+  /// threadsFor(items, min_items_per_thread, threads).
+  size_t forItems(size_t items, size_t min_items_per_thread) const {
+    return threadsFor(items, min_items_per_thread, threads);
+  }
+};
+
 /// [begin, end) of part `t` of `n` items split in `parts` near-equal contiguous ranges.
 inline std::pair<size_t, size_t> partRange(size_t n, size_t parts, size_t t) {
   return {n * t / parts, n * (t + 1) / parts};
