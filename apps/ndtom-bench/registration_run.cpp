@@ -34,12 +34,8 @@ RunResult runRegistration(const NdtMap& map, const ScanSet& set, size_t scans, i
     sensor[i].reserve(set.scans[i].points.size());
     for (const Eigen::Vector3d& p : set.scans[i].points) sensor[i].push_back(to_sensor * p);
   }
-  pyramid = RunResult{};
-  pyramid.dataset = r.dataset;
+  pyramid = r;  // same dataset, threads and resolution; nothing timed yet
   pyramid.label = "pyramid/t" + std::to_string(threads);
-  pyramid.threads = threads;
-  pyramid.resolution = r.resolution;
-  pyramid.repeats = 1;
   RegistrationOptions o;
   o.threads = threads;
   StageProfile first_call;
