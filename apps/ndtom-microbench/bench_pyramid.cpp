@@ -1,7 +1,10 @@
 // The registration pyramid of a map of real scans: built whole on 1 and 2 threads, and
 // brought up to the map after one more scan (MapPyramid::follow), which an online mapper does
 // before every scan instead of building it again. The map holds the first 5 scans, or
-// $NDTOM_MICROBENCH_PYRAMID_SCANS of them (with a larger $NDTOM_MICROBENCH_DATA).
+// $NDTOM_MICROBENCH_PYRAMID_SCANS of them (with a larger $NDTOM_MICROBENCH_DATA); the whole
+// build takes the map file $NDTOM_MICROBENCH_PYRAMID_MAP instead if set (e.g. ndtom-map's of
+// a city drive), and reports the share of its time on the worker threads (parallel_fraction,
+// the one-thread run's is Amdahl's p) and what that predicts at 16 threads.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -10,7 +13,10 @@
 #include <string>
 
 #include "microbench_data.h"
+#include "ndtom/files/map_io.h"
 #include "ndtom/registration/map_pyramid.h"
+#include "ndtom/support/stage_profile.h"
+#include "support/stage_clock.h"
 
 namespace {
 
@@ -33,15 +39,25 @@ ndtom::NdtMap mapOf(size_t scans) {
 }
 
 void BM_PyramidBuild(benchmark::State& state) {
-  const ndtom::NdtMap map = mapOf(mapScans() + 1);
+  const char* file = std::getenv("NDTOM_MICROBENCH_PYRAMID_MAP");
+  static const ndtom::NdtMap map =
+      file ? ndtom::loadMap(file, uint64_t(1) << 40) : mapOf(mapScans() + 1);
   size_t gaussians = 0;
+  ndtom::StageProfile profile;
   for (auto _ : state) {
+    ndtom::StageClock clock(&profile);
+    clock.next("pyramid");
     const ndtom::MapPyramid pyramid(map, kLevels, int(state.range(0)));
+    clock.stop();
     gaussians = 0;
     for (size_t l = 0; l < pyramid.size(); ++l) gaussians += pyramid.level(l).size();
   }
+  const double p = profile.parallelWallSeconds() / profile.wallSeconds();
   state.counters["gaussians"] = double(gaussians);
-  state.SetLabel(std::to_string(mapScans() + 1) + " scans, levels 16 8 4 2 1, whole");
+  state.counters["parallel_fraction"] = p;
+  state.counters["predicted_s16"] = 1 / ((1 - p) + p / 16);
+  state.SetLabel((file ? std::string(file) : std::to_string(mapScans() + 1) + " scans") +
+                 ", levels 16 8 4 2 1, whole");
 }
 // Argument: threads.
 BENCHMARK(BM_PyramidBuild)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

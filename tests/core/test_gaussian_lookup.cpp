@@ -243,3 +243,48 @@ TEST(GaussianLookup, UpdateGivesTheLookupOfTheChangedSet) {
   GaussianLookup with_tree(a.geometry(), first);
   EXPECT_THROW(with_tree.update({}), std::logic_error) << "its k-d tree would go stale";
 }
+
+TEST(GaussianLookup, BlocksMadeElsewhereGiveTheLookupOfTheirGaussians) {
+  // The map's Gaussians grouped into blocks by hand (a std::map keyed by block, then
+  // offset), against the lookup of the same Gaussians given in any order.
+  const NdtMap map = roomMap(0.5);
+  std::map<ndtom::CellIndex, std::map<int, ndtom::Gaussian>> by_block;
+  std::vector<ndtom::Gaussian> all;
+  map.forEachGaussian([&](const ndtom::Gaussian& g) {
+    by_block[ndtom::blockOf(g.cell)][ndtom::offsetInBlock(g.cell)] = g;
+    all.push_back(g);
+  });
+  ASSERT_GT(by_block.size(), 3u);
+  std::vector<ndtom::GaussianBlock> blocks;
+  blocks.push_back({{-100000, 0, 0}, {}, {}});  // empty: skipped
+  for (const auto& [key, cells] : by_block) {
+    ndtom::GaussianBlock b;
+    b.block = key;
+    for (const auto& [offset, g] : cells) {
+      b.cells[size_t(offset) / 64] |= uint64_t(1) << (offset % 64);
+      b.gaussians.push_back(ndtom::prepared(g));
+    }
+    blocks.push_back(std::move(b));
+  }
+  blocks.push_back({{100000, 0, 0}, {}, {}});
+  const GaussianLookup from_blocks(map.geometry(), blocks);
+  const GaussianLookup from_any_order(map.geometry(), all);
+  ASSERT_EQ(from_blocks.size(), all.size());
+  const auto got = gaussiansOf(from_blocks), want = gaussiansOf(from_any_order);
+  ASSERT_EQ(got.size(), want.size());
+  for (size_t i = 0; i < got.size(); ++i) {
+    EXPECT_EQ(got[i]->cell, want[i]->cell);
+    EXPECT_EQ(got[i]->information, want[i]->information);
+    EXPECT_EQ(from_blocks.find(got[i]->cell), got[i]);
+    EXPECT_EQ(&from_blocks.meanOwner(uint32_t(i)), got[i]);
+  }
+  EXPECT_EQ(from_blocks.memoryBytes(), from_any_order.memoryBytes());
+  EXPECT_EQ(from_blocks.find({1000, 1000, 1000}), nullptr);
+
+  auto swapped = blocks;
+  std::swap(swapped[1], swapped[2]);
+  EXPECT_THROW(GaussianLookup(map.geometry(), swapped), std::invalid_argument);
+  auto miscounted = blocks;
+  miscounted[1].gaussians.pop_back();
+  EXPECT_THROW(GaussianLookup(map.geometry(), miscounted), std::invalid_argument);
+}

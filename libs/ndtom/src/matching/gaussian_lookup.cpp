@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <iterator>
 #include <stdexcept>
+#include <string>
 
 #include "ndtom/map/eigenvalue_floor.h"
 #include "ndtom/map/map_queries.h"
@@ -73,12 +74,39 @@ GaussianLookup::GaussianLookup(const GridGeometry& geometry,
   index(std::move(gaussians), options.nearest_means);
 }
 
+GaussianLookup::GaussianLookup(const GridGeometry& geometry, std::vector<GaussianBlock> blocks,
+                               const LookupOptions& options)
+    : geometry_(geometry) {
+  for (size_t i = 0; i < blocks.size(); ++i) {
+    GaussianBlock& b = blocks[i];
+    if (i > 0 && !(blocks[i - 1].block < b.block))
+      throw std::invalid_argument("GaussianLookup: blocks not in ascending block order");
+    size_t bits = 0;
+    for (const uint64_t word : b.cells) bits += popcount(word);
+    if (bits != b.gaussians.size())
+      throw std::invalid_argument("GaussianLookup: a block's bits (" + std::to_string(bits) +
+                                  ") do not count its Gaussians (" +
+                                  std::to_string(b.gaussians.size()) + ")");
+    if (b.gaussians.empty()) continue;
+    IndexBlock& block = by_cell_.getOrCreate(b.block);
+    block.occupied = b.cells;
+    block.gaussians = std::move(b.gaussians);
+    block.countBefore();
+    size_ += block.gaussians.size();
+  }
+  indexMeans(options.nearest_means);
+}
+
 void GaussianLookup::IndexBlock::reindex() {
   occupied.fill(0);
   for (const PreparedGaussian& g : gaussians) {
     const uint32_t offset = uint32_t(offsetInBlock(g.cell));
     occupied[offset >> 6] |= uint64_t(1) << (offset & 63);
   }
+  countBefore();
+}
+
+void GaussianLookup::IndexBlock::countBefore() {
   uint32_t count = 0;
   for (size_t w = 0; w < kWords; ++w) {
     before[w] = uint16_t(count);
@@ -104,6 +132,10 @@ void GaussianLookup::index(std::vector<PreparedGaussian> gaussians, bool nearest
     block.reindex();
   }
   size_ = gaussians.size();
+  indexMeans(nearest_means);
+}
+
+void GaussianLookup::indexMeans(bool nearest_means) {
   nearest_means_ = nearest_means;
   if (!nearest_means) return;
   std::vector<Eigen::Vector3d> means;

@@ -74,33 +74,71 @@ std::optional<PreparedGaussian> CoarseCells::gaussian(const CellIndex& coarse_ce
 
 namespace {
 
-// In block order: GaussianLookup::update() then finds them sorted.
-void sortUnique(std::vector<CellIndex>& cells) {
-  std::sort(cells.begin(), cells.end(), inBlockOrder);
-  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+// The bits, in their coarse block, of the coarse cells over the fine cells `fine`.
+void addCoarseBits(const BlockCells& fine, int factor, std::array<uint64_t, kBlockCells / 64>& bits) {
+  if (factor == 1) {
+    for (size_t w = 0; w < bits.size(); ++w) bits[w] |= fine.cells[w];
+    return;
+  }
+  for (size_t w = 0; w < fine.cells.size(); ++w)
+    for (uint64_t word = fine.cells[w]; word != 0; word &= word - 1) {
+      const CellIndex coarse = cellwiseFloorDiv(
+          cellInBlock(fine.block, int(w * 64) + __builtin_ctzll(word)), factor);
+      const int offset = offsetInBlock(coarse);  // inside coarse_block, by construction
+      bits[size_t(offset) >> 6] |= uint64_t(1) << (offset & 63);
+    }
 }
 
 }  // namespace
 
+std::vector<BlockCells> CoarseCells::blocksOver(const std::vector<BlockCells>& fine,
+                                                bool members_only, const Threads& threads) const {
+  // A fine block's cells all fall in one coarse block, floor(block / factor): a coarse cell's
+  // block is floor(fine cell / (8·factor)), and a fine block spans 8 fine cells.
+  std::vector<std::pair<CellIndex, uint32_t>> by_coarse;  // coarse block, index into `fine`
+  by_coarse.reserve(fine.size());
+  const auto any = [](const BlockCells& b) {
+    return std::any_of(b.cells.begin(), b.cells.end(), [](uint64_t w) { return w != 0; });
+  };
+  for (size_t i = 0; i < fine.size(); ++i)
+    if (any(fine[i]) && (!members_only || member(fine[i].block)))
+      by_coarse.emplace_back(cellwiseFloorDiv(fine[i].block, factor_), uint32_t(i));
+  // Ties in any order: the bits are or-ed.
+  std::sort(by_coarse.begin(), by_coarse.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<size_t> starts;
+  for (size_t k = 0; k < by_coarse.size(); ++k)
+    if (k == 0 || by_coarse[k].first != by_coarse[k - 1].first) starts.push_back(k);
+  starts.push_back(by_coarse.size());
+  std::vector<BlockCells> coarse(starts.size() - 1);
+  constexpr size_t kMinBlocksPerThread = 256;
+  const size_t parts = threads.forItems(coarse.size(), kMinBlocksPerThread);
+  threads.pool.run(parts, [&](size_t t) {
+    const auto [begin, end] = partRange(coarse.size(), parts, t);
+    for (size_t g = begin; g < end; ++g) {
+      coarse[g].block = by_coarse[starts[g]].first;
+      for (size_t k = starts[g]; k < starts[g + 1]; ++k)
+        addCoarseBits(fine[by_coarse[k].second], factor_, coarse[g].cells);
+    }
+  });
+  return coarse;
+}
+
 std::vector<CellIndex> CoarseCells::cellsOver(const std::vector<BlockCells>& fine,
-                                              bool members_only) const {
+                                              bool members_only, const Threads& threads) const {
   std::vector<CellIndex> out;
-  for (const BlockCells& b : fine) {
-    if (members_only && !member(b.block)) continue;
+  for (const BlockCells& b : blocksOver(fine, members_only, threads))
     for (size_t w = 0; w < b.cells.size(); ++w)
       for (uint64_t bits = b.cells[w]; bits != 0; bits &= bits - 1)
-        out.push_back(
-            cellwiseFloorDiv(cellInBlock(b.block, int(w * 64) + __builtin_ctzll(bits)), factor_));
-  }
-  sortUnique(out);
+        out.push_back(cellInBlock(b.block, int(w * 64) + __builtin_ctzll(bits)));
   return out;
 }
 
-std::vector<CellIndex> CoarseCells::allCells() const {
+std::vector<BlockCells> CoarseCells::statsCells() const {
   std::vector<BlockCells> fine;
   for (const auto& [key, block] : MapInternals::grid(map_).blocks())
     if (!block->stats.empty() && member(key)) fine.push_back({key, block->has_stats});
-  return cellsOver(fine, true);
+  return fine;
 }
 
 }  // namespace ndtom::registration

@@ -10,6 +10,7 @@
 #include "ndtom/map/ndt_map.h"
 #include "ndtom/map/stats_changes.h"
 #include "ndtom/matching/gaussian_lookup.h"
+#include "support/parallel.h"
 
 namespace ndtom::registration {
 
@@ -30,10 +31,16 @@ class CoarseCells {
   /// largest of its cells').
   std::optional<PreparedGaussian> gaussian(const CellIndex& coarse_cell) const;
   /// The coarse cells over the given fine cells (of member blocks only, if
-  /// `members_only`), each once, block by block in ascending block order and by offset.
-  std::vector<CellIndex> cellsOver(const std::vector<BlockCells>& fine, bool members_only) const;
-  /// The coarse cells over every fine cell with statistics of the member blocks.
-  std::vector<CellIndex> allCells() const;
+  /// `members_only`) as the coarse grid's blocks with a bit per cell, in ascending block
+  /// order; the same for any thread count.
+  std::vector<BlockCells> blocksOver(const std::vector<BlockCells>& fine, bool members_only,
+                                     const Threads& threads) const;
+  /// blocksOver()'s cells, each once, in inBlockOrder().
+  std::vector<CellIndex> cellsOver(const std::vector<BlockCells>& fine, bool members_only,
+                                   const Threads& threads) const;
+  /// The fine cells with statistics of the member blocks, block by block in no particular
+  /// order: what every level of a new pyramid is made from.
+  std::vector<BlockCells> statsCells() const;
   bool member(const CellIndex& block) const { return !members_ || members_(block); }
 
  private:

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -48,14 +49,65 @@ MapPyramid::MapPyramid(const NdtMap& map, const std::vector<int>& factors, int t
       work_(std::make_unique<Work>()) {
   checkFactors(factors);
   work_->threads = size_t(std::max(threads, 1));
+  const Threads all{work_->pool, work_->threads};
   // Coarse levels from the cells with statistics only: the coarse map's free cells, most of
   // its cells, are never needed here.
-  std::vector<std::vector<CellIndex>> cells(factors.size());
-  work_->pool.run(std::min(work_->threads, factors.size()), [&](size_t t) {
-    for (size_t l = t; l < factors.size(); l += std::min(work_->threads, factors.size()))
-      cells[l] = CoarseCells(map, factors[l], members_).allCells();
+  const std::vector<BlockCells> fine = CoarseCells(map, 1, members_).statsCells();
+  std::vector<std::vector<BlockCells>> blocks;
+  for (const int factor : factors_)
+    blocks.push_back(CoarseCells(map, factor, members_).blocksOver(fine, false, all));
+  build(map, blocks);
+}
+
+void MapPyramid::build(const NdtMap& map, const std::vector<std::vector<BlockCells>>& blocks) {
+  // Every (level, coarse block) on its own, its Gaussians made and kept by the thread that
+  // takes it: threads take runs of blocks as they go.
+  std::vector<CoarseCells> coarse;
+  std::vector<std::vector<GaussianBlock>> made(factors_.size());
+  std::vector<size_t> starts{0};
+  for (size_t l = 0; l < factors_.size(); ++l) {
+    coarse.emplace_back(map, factors_[l], members_);
+    made[l].resize(blocks[l].size());
+    starts.push_back(starts.back() + blocks[l].size());
+  }
+  constexpr size_t kBlocksPerTake = 8;
+  std::atomic<size_t> next{0}, found{0};
+  const size_t total = starts.back();
+  work_->pool.run(threadsFor(total, kBlocksPerTake, work_->threads), [&](size_t) {
+    size_t found_here = 0;
+    std::vector<PreparedGaussian> gaussians;
+    for (size_t begin; (begin = next.fetch_add(kBlocksPerTake)) < total;)
+      for (size_t k = begin; k < std::min(total, begin + kBlocksPerTake); ++k) {
+        const size_t l =
+            size_t(std::upper_bound(starts.begin(), starts.end(), k) - starts.begin()) - 1;
+        const BlockCells& cells = blocks[l][k - starts[l]];
+        GaussianBlock& out = made[l][k - starts[l]];
+        out.block = cells.block;
+        gaussians.clear();
+        for (size_t w = 0; w < cells.cells.size(); ++w)
+          for (uint64_t bits = cells.cells[w]; bits != 0; bits &= bits - 1) {
+            const int offset = int(w * 64) + __builtin_ctzll(bits);
+            std::optional<PreparedGaussian> g = coarse[l].gaussian(cellInBlock(cells.block, offset));
+            if (!g) continue;
+            gaussians.push_back(std::move(*g));
+            out.cells[w] |= uint64_t(1) << (offset & 63);
+          }
+        out.gaussians.reserve(gaussians.size());  // exactly: memoryBytes() counts capacity
+        std::move(gaussians.begin(), gaussians.end(), std::back_inserter(out.gaussians));
+        found_here += gaussians.size();
+      }
+    found += found_here;
   });
-  redo(map, cells, /*build=*/true, members_);
+  checkBudget(map, found.load(), /*beside_levels=*/false);
+  levels_.resize(factors_.size());
+  const size_t threads = std::min(work_->threads, factors_.size());
+  work_->pool.run(threads, [&](size_t t) {
+    for (size_t l = t; l < factors_.size(); l += threads) {
+      const LookupOptions options{/*occupied_only=*/true, /*nearest_means=*/false};
+      const GridGeometry geometry(map.options().resolution * factors_[l]);
+      levels_[l] = std::make_unique<GaussianLookup>(geometry, std::move(made[l]), options);
+    }
+  });
 }
 
 MapPyramid::~MapPyramid() = default;
@@ -70,10 +122,11 @@ bool MapPyramid::follow(const NdtMap& map) {
   if (map.revision() == revision_) return true;
   const StatsChanges& changes = map.lastStatsChanges();
   if (changes.from == 0 || changes.from != revision_ || changes.to != map.revision()) return false;
+  const Threads all{work_->pool, work_->threads};
   std::vector<std::vector<CellIndex>> cells(factors_.size());
   for (size_t l = 0; l < factors_.size(); ++l)
-    cells[l] = CoarseCells(map, factors_[l], members_).cellsOver(changes.blocks, true);
-  redo(map, cells, /*build=*/false, members_);
+    cells[l] = CoarseCells(map, factors_[l], members_).cellsOver(changes.blocks, true, all);
+  redo(map, cells, members_);
   revision_ = map.revision();
   return true;
 }
@@ -88,28 +141,36 @@ void MapPyramid::setMembers(const NdtMap& map, BlockFilter members) {
   for (const auto& [key, block] : MapInternals::grid(map).blocks())
     if (!block->stats.empty() && admits(members_, key) != admits(members, key))
       moved.push_back({key, block->has_stats});
+  const Threads all{work_->pool, work_->threads};
   std::vector<std::vector<CellIndex>> cells(factors_.size());
   for (size_t l = 0; l < factors_.size(); ++l)
-    cells[l] = CoarseCells(map, factors_[l], members).cellsOver(moved, false);
-  redo(map, cells, /*build=*/false, members);
+    cells[l] = CoarseCells(map, factors_[l], members).cellsOver(moved, false, all);
+  redo(map, cells, members);
   members_ = std::move(members);
 }
 
-void MapPyramid::redo(const NdtMap& map, const std::vector<std::vector<CellIndex>>& cells,
-                      bool build, const BlockFilter& members) {
-  size_t gaussians = 0;
-  std::vector<std::vector<CellChange>> changes = redoCells(map, cells, members, gaussians);
+void MapPyramid::checkBudget(const NdtMap& map, size_t gaussians, bool beside_levels) const {
   // The levels share what the map's memory budget leaves: a sparse map (a Gaussian a
-  // block) has levels as large as itself. The Gaussians redone are held beside the levels
+  // block) has levels as large as itself. Gaussians redone are held beside the levels
   // until they replace them, so they count whole.
   const uint64_t budget = map.options().scan.memory_budget;
-  const uint64_t need = map.memoryBytes() + (build ? 0 : memoryBytes()) +
+  const uint64_t need = map.memoryBytes() + (beside_levels ? memoryBytes() : 0) +
                         gaussians * GaussianLookup::maxBytesPerGaussian();
   if (need > budget)
     throw MemoryBudgetError("the registration pyramid (levels " + levelNames(factors_) + ", " +
                                 std::to_string(gaussians) + " Gaussians, beside the map)",
                             need, budget);
-  putIntoLevels(map, std::move(changes), build);
+}
+
+void MapPyramid::redo(const NdtMap& map, const std::vector<std::vector<CellIndex>>& cells,
+                      const BlockFilter& members) {
+  size_t gaussians = 0;
+  std::vector<std::vector<CellChange>> changes = redoCells(map, cells, members, gaussians);
+  checkBudget(map, gaussians, /*beside_levels=*/true);
+  const size_t threads = std::min(work_->threads, factors_.size());
+  work_->pool.run(threads, [&](size_t t) {
+    for (size_t l = t; l < factors_.size(); l += threads) levels_[l]->update(std::move(changes[l]));
+  });
 }
 
 std::vector<std::vector<CellChange>> MapPyramid::redoCells(
@@ -142,28 +203,6 @@ std::vector<std::vector<CellChange>> MapPyramid::redoCells(
   });
   gaussians = found.load();
   return changes;
-}
-
-void MapPyramid::putIntoLevels(const NdtMap& map, std::vector<std::vector<CellChange>> changes,
-                               bool build) {
-  if (build) levels_.resize(factors_.size());
-  const size_t threads = std::min(work_->threads, factors_.size());
-  work_->pool.run(threads, [&](size_t t) {
-    for (size_t l = t; l < factors_.size(); l += threads) {
-      if (!build) {
-        levels_[l]->update(std::move(changes[l]));
-        continue;
-      }
-      std::vector<PreparedGaussian> level;
-      level.reserve(changes[l].size());
-      for (CellChange& c : changes[l])
-        if (c.gaussian) level.push_back(std::move(*c.gaussian));
-      std::vector<CellChange>().swap(changes[l]);
-      const LookupOptions options{/*occupied_only=*/true, /*nearest_means=*/false};
-      const GridGeometry geometry(map.options().resolution * factors_[l]);
-      levels_[l] = std::make_unique<GaussianLookup>(geometry, std::move(level), options);
-    }
-  });
 }
 
 }  // namespace ndtom

@@ -53,6 +53,13 @@ struct CellChange {
   std::optional<PreparedGaussian> gaussian;
 };
 
+/// One block's Gaussians, for GaussianLookup's constructor from blocks made elsewhere.
+struct GaussianBlock {
+  CellIndex block;
+  std::array<uint64_t, kBlockCells / 64> cells{};  ///< a bit per Gaussian at offsetInBlock()
+  std::vector<PreparedGaussian> gaussians;         ///< in offset order
+};
+
 class GaussianLookup {
  public:
   /// Every cell of `map` with a Gaussian (N ≥ 3), its covariance regularised as the map's
@@ -65,6 +72,12 @@ class GaussianLookup {
                  const LookupOptions& options = {});
   /// The same from Gaussians prepared already (prepared()), in any order.
   GaussianLookup(const GridGeometry& geometry, std::vector<PreparedGaussian> gaussians,
+                 const LookupOptions& options = {});
+  /// From blocks made elsewhere, e.g. on several threads (MapPyramid): in ascending block
+  /// order, each block's Gaussians in offset order and inside it; empty blocks are skipped.
+  /// O(blocks + Gaussians) and the Gaussians are not read again; throws
+  /// std::invalid_argument for blocks out of order or bits that do not count the Gaussians.
+  GaussianLookup(const GridGeometry& geometry, std::vector<GaussianBlock> blocks,
                  const LookupOptions& options = {});
   // Moved, not copied: the k-d tree's owners point into the blocks.
   GaussianLookup(GaussianLookup&&) noexcept = default;
@@ -131,9 +144,12 @@ class GaussianLookup {
     }
     /// `occupied` and `before` from the cells of `gaussians`.
     void reindex();
+    /// `before` from `occupied`.
+    void countBefore();
   };
   /// Fills the blocks from Gaussians in any order and builds the k-d tree if asked.
   void index(std::vector<PreparedGaussian> gaussians, bool nearest_means);
+  void indexMeans(bool nearest_means);
   std::vector<std::pair<CellIndex, const IndexBlock*>> blocksInOrder() const;
 
   GridGeometry geometry_;

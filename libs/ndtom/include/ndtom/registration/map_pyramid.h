@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ndtom/map/ndt_map.h"
+#include "ndtom/map/stats_changes.h"
 #include "ndtom/matching/gaussian_lookup.h"
 
 namespace ndtom {
@@ -55,15 +56,19 @@ class MapPyramid {
 
  private:
   struct Work;  // threads of the build and of the updates
+  /// New levels of the coarse cells `blocks[l]` (coarse blocks with a bit per cell).
+  void build(const NdtMap& map, const std::vector<std::vector<BlockCells>>& blocks);
   /// Each level's coarse cells in `cells[l]` computed again from the blocks `members` admits
-  /// and put in (or out of) the level; `build`: into new levels. Changes nothing if it throws.
-  void redo(const NdtMap& map, const std::vector<std::vector<CellIndex>>& cells, bool build,
+  /// and put in (or out of) the level. Changes nothing if it throws.
+  void redo(const NdtMap& map, const std::vector<std::vector<CellIndex>>& cells,
             const BlockFilter& members);
-  // redo()'s phases: each cell's Gaussian computed again (counting those found), then put in.
+  // redo()'s first phase: each cell's Gaussian computed again (counting those found).
   std::vector<std::vector<CellChange>> redoCells(const NdtMap& map,
                                                  const std::vector<std::vector<CellIndex>>& cells,
                                                  const BlockFilter& members, size_t& gaussians);
-  void putIntoLevels(const NdtMap& map, std::vector<std::vector<CellChange>> changes, bool build);
+  /// Throws MemoryBudgetError if `gaussians` more (beside the levels, or instead of them)
+  /// would pass the map's memory budget.
+  void checkBudget(const NdtMap& map, size_t gaussians, bool beside_levels) const;
 
   std::vector<int> factors_;
   std::vector<std::unique_ptr<GaussianLookup>> levels_;
