@@ -18,6 +18,10 @@ double amdahlSpeedup(double parallel_fraction, double threads) {
   return 1 / ((1 - p) + p / threads);
 }
 
+double spinningCpuRatio(double parallel_fraction, double threads) {
+  return threads / amdahlSpeedup(parallel_fraction, threads);  // also checks the arguments
+}
+
 double parallelFraction(double parallel_seconds, double total_seconds) {
   if (!(parallel_seconds >= 0 && std::isfinite(parallel_seconds)) ||
       !(total_seconds > 0 && std::isfinite(total_seconds)))

@@ -145,6 +145,7 @@ void writeCsv(const std::string& path, const std::vector<RunResult>& runs) {
                         "predicted_s4",
                         "predicted_s8",
                         "predicted_s16",
+                        "predicted_cpu16_spinning",
                         "cpu_ratio_vs_t1"});
   const auto g = [](double v) { return apps::CsvCell::formatted("%g", v); };
   for (const RunResult& r : runs) {
@@ -191,6 +192,7 @@ void writeCsv(const std::string& path, const std::vector<RunResult>& runs) {
                   predicted(4),
                   predicted(8),
                   predicted(16),
+                  p ? g(spinningCpuRatio(*p, 16)) : apps::CsvCell(""),
                   optionalText(cpuRatioVsT1(runs, r))});
   }
   try {

@@ -73,8 +73,9 @@ std::string stagesTable(const std::vector<RunResult>& runs) {
 std::string amdahlTable(const std::vector<RunResult>& runs) {
   std::string out = "| dataset | system | res (m) | p (1 thread) |";
   for (int n : kPredictedThreads) out += " S(" + std::to_string(n) + ") predicted |";
+  out += " CPU(16) / 1 thread, workers spinning |";
   out += " measured: threads, speed-up, CPU / 1 thread |\n|---|---|---:|---:|";
-  for (size_t i = 0; i < std::size(kPredictedThreads); ++i) out += "---:|";
+  for (size_t i = 0; i <= std::size(kPredictedThreads); ++i) out += "---:|";
   out += "---|\n";
   for (const RunResult& r : runs) {
     if (r.threads != 1) continue;
@@ -83,6 +84,7 @@ std::string amdahlTable(const std::vector<RunResult>& runs) {
     out += "| " + r.dataset + " | " + systemOf(r) + " | " + format("%.2f", r.resolution) + " | " +
            format("%.3f", *p) + " |";
     for (int n : kPredictedThreads) out += " " + format("%.2f", amdahlSpeedup(*p, n)) + " |";
+    out += " " + format("%.2f", spinningCpuRatio(*p, 16)) + " |";
     std::string measured;
     for (const RunResult& m : runs) {
       if (m.threads <= 1 || m.dataset != r.dataset || m.resolution != r.resolution ||

@@ -19,6 +19,17 @@ TEST(Amdahl, MatchesHandComputedSpeedups) {
   EXPECT_NEAR(amdahlSpeedup(0.5, 8), 1 / 0.5625, 1e-12);  // 1.7778
 }
 
+TEST(Amdahl, SpinningWorkersCpu) {
+  // 16 threads busy (working or spinning) for the whole of S(16)'s wall time, worked out by
+  // hand: p = 0.98 -> 16 * 0.02 + 0.98 = 1.30; p = 0.9 -> 16 * 0.1 + 0.9 = 2.5.
+  EXPECT_NEAR(ndtom::bench::spinningCpuRatio(0.98, 16), 1.30, 1e-12);
+  EXPECT_NEAR(ndtom::bench::spinningCpuRatio(0.9, 16), 2.5, 1e-12);
+  EXPECT_DOUBLE_EQ(ndtom::bench::spinningCpuRatio(1, 16), 1);   // no serial stretch: no waste
+  EXPECT_DOUBLE_EQ(ndtom::bench::spinningCpuRatio(0, 16), 16);  // all serial: 15 spin
+  EXPECT_DOUBLE_EQ(ndtom::bench::spinningCpuRatio(0.7, 1), 1);
+  EXPECT_THROW(ndtom::bench::spinningCpuRatio(1.5, 16), std::invalid_argument);
+}
+
 TEST(Amdahl, EdgeCases) {
   for (double n : {1.0, 2.0, 16.0, 1e6}) {
     EXPECT_DOUBLE_EQ(amdahlSpeedup(0, n), 1);  // all serial: no gain

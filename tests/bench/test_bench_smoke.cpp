@@ -267,12 +267,16 @@ TEST(BenchThreads, TwoThreadRunsReportIdentityAndBothSpeedups) {
   }
   EXPECT_NEAR(std::stod(t1.at("parallel_fraction_t1")),
               parallel_totals["ndtom-point/t1"] / totals["ndtom-point/t1"], 1e-5);
+  // 16 threads busy for the predicted wall time: 16 / S(16).
+  EXPECT_NEAR(std::stod(t1.at("predicted_cpu16_spinning")),
+              16 / std::stod(t1.at("predicted_s16")), 1e-4);
   // Registration: two poses per thread count, the same for both.
   const size_t registration = out.find("| balm-realworld | registration-p2d/t2 | 0.80 | 2 |");
   ASSERT_NE(registration, std::string::npos) << out;
   const std::string line = out.substr(registration, out.find('\n', registration) - registration);
   EXPECT_EQ(line.substr(line.size() - 7), "| yes |") << line;
   EXPECT_NE(out.find("S(16) predicted"), std::string::npos) << out;
+  EXPECT_NE(out.find("CPU(16) / 1 thread, workers spinning"), std::string::npos) << out;
   fs::remove_all(dir);
 }
 

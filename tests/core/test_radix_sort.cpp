@@ -24,7 +24,7 @@ std::vector<uint64_t> randomWords(size_t n, int key_bits, uint64_t distinct, uns
 TEST(RadixSort, MatchesStableSortForAnyThreadCountAndKeyWidth) {
   ndtom::WorkerPool pool;
   for (const int key_bits : {1, 9, 13, 14, 26, 40, 64 - kIndexBits})
-    for (const size_t threads : {1, 2, 3, 7}) {
+    for (const size_t threads : {1, 2, 3, 7, 16}) {  // from 7, offsets by digit ranges
       std::vector<uint64_t> words = randomWords(20000, key_bits, 3000, unsigned(key_bits)), buffer;
       std::vector<uint64_t> expected = words;
       std::stable_sort(expected.begin(), expected.end(), [](uint64_t a, uint64_t b) {

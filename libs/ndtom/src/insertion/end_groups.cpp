@@ -6,12 +6,14 @@ namespace ndtom {
 
 void groupEnds(const ScanContext& scan, const ClassifiedPoints& points, const SortedRayEnds& sorted,
                GroupMeans means, EndGroups& out, InsertionReport& report) {
-  out.groups.clear();
   out.hit_blocks.clear();
   out.has_means = false;
   const std::vector<uint64_t>& words = sorted.words;
   const size_t used = words.size();
-  if (used == 0) return;
+  if (used == 0) {
+    out.groups.clear();
+    return;
+  }
   // Groups are runs of equal keys. Threads split the sorted ends at run boundaries; each
   // gathers its ends (independent loads, instead of a dependent walk per group later) and
   // counts its runs, then fills its part of the group list.
@@ -38,8 +40,12 @@ void groupEnds(const ScanContext& scan, const ClassifiedPoints& points, const So
     runs[t + 1] = count;
   });
   for (size_t t = 0; t < threads; ++t) runs[t + 1] += runs[t];
-  out.groups.resize(runs[threads]);
+  out.groups.resize(runs[threads]);  // every field is written below: zeroes only what it grows
   out.has_means = means == GroupMeans::Compute;
+  // Each thread also lists the hit blocks of its groups; a block cut by a part's boundary
+  // is joined below.
+  if (out.part_hit_blocks.size() < threads) out.part_hit_blocks.resize(threads);
+  std::vector<size_t> part_hits(threads, 0);
   scan.pool.run(threads, [&](size_t t) {
     const GridGeometry& geometry = scan.geometry;
     size_t group = runs[t];
@@ -61,23 +67,42 @@ void groupEnds(const ScanContext& scan, const ClassifiedPoints& points, const So
       g.relative_mean /= double(g.count);
       g.mean_end = centre + g.relative_mean;
     }
-  });
-
-  // Hit cells and their blocks, from the keys.
-  uint64_t last_hit_block = 0;  // block number of out.hit_blocks.back()
-  for (size_t group = 0; group < out.groups.size(); ++group) {
-    if (!out.groups[group].hit) continue;
-    ++report.cells_hit;
-    const uint64_t dense = SortedRayEnds::denseIndex(sorted.keyOf(words[out.groups[group].begin]));
-    const uint64_t block = dense / kBlockCells;
-    if (out.hit_blocks.empty() || block != last_hit_block) {
-      out.hit_blocks.push_back({group, 0, {}});
-      last_hit_block = block;
+    // Hit cells and their blocks, from the keys.
+    std::vector<HitBlock>& blocks = out.part_hit_blocks[t];
+    blocks.clear();
+    uint64_t last_block = 0;  // block number of blocks.back()
+    size_t hits = 0;          // written once: neighbouring threads' counts share a line
+    for (size_t k = runs[t]; k < runs[t + 1]; ++k) {
+      if (!out.groups[k].hit) continue;
+      ++hits;
+      const uint64_t dense = SortedRayEnds::denseIndex(sorted.keyOf(words[out.groups[k].begin]));
+      const uint64_t block = dense / kBlockCells;
+      if (blocks.empty() || block != last_block) {
+        blocks.push_back({k, 0, {}, block});
+        last_block = block;
+      }
+      HitBlock& h = blocks.back();
+      h.last_group = k + 1;
+      const uint64_t offset = dense % kBlockCells;
+      h.hits[offset / 64] |= uint64_t(1) << (offset % 64);
     }
-    HitBlock& h = out.hit_blocks.back();
-    h.last_group = group + 1;
-    const uint64_t offset = dense % kBlockCells;
-    h.hits[offset / 64] |= uint64_t(1) << (offset % 64);
+    part_hits[t] = hits;
+  });
+  for (size_t t = 0; t < threads; ++t) report.cells_hit += part_hits[t];
+  if (threads == 1) {
+    out.hit_blocks.swap(out.part_hit_blocks[0]);
+    return;
+  }
+  for (size_t t = 0; t < threads; ++t) {
+    for (const HitBlock& h : out.part_hit_blocks[t]) {
+      if (!out.hit_blocks.empty() && out.hit_blocks.back().number == h.number) {
+        HitBlock& joined = out.hit_blocks.back();
+        joined.last_group = h.last_group;
+        for (size_t w = 0; w < h.hits.size(); ++w) joined.hits[w] |= h.hits[w];
+      } else {
+        out.hit_blocks.push_back(h);
+      }
+    }
   }
 }
 

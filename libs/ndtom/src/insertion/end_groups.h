@@ -30,12 +30,14 @@ struct EndGroup {
 struct HitBlock {
   size_t first_group, last_group;  ///< from its first hit group to its last (in `groups`)
   MapBlock::Mask hits;             ///< its hit cells
+  uint64_t number = 0;             ///< its block number in the sort key (denseIndex / 512)
 };
 
 struct EndGroups {
   std::vector<Eigen::Vector3d> sorted_ends;  ///< the ray ends in sorted order
   std::vector<EndGroup> groups;              ///< in sorted order: a block's in offset order
   std::vector<HitBlock> hit_blocks;          ///< in the same order
+  std::vector<std::vector<HitBlock>> part_hit_blocks;  ///< scratch: each thread's, in order
   bool has_means = false;                    ///< EndGroup::relative_mean and mean_end are set
 
   const CellIndex& blockCell(const HitBlock& h) const { return groups[h.first_group].cell; }

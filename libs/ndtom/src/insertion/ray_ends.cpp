@@ -116,8 +116,10 @@ std::vector<uint8_t> ownedBlocks(const TileOwnerTable::Lookup& owner, int tile_b
 
 void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points,
                  const TileOwnership* hits_in, SortedRayEnds& out) {
-  out.words.clear();
-  if (points.used == 0) return;
+  if (points.used == 0) {
+    out.words.clear();
+    return;
+  }
   // Cells keyed by a block-major dense index within the ends' bounding box, so each block's
   // groups are contiguous (threads can own whole blocks); under 2^14 blocks per axis, because
   // rays are at most kMaxRayCells long. The key goes above the point's index in one word.
@@ -127,7 +129,7 @@ void sortRayEnds(const ScanContext& scan, const ClassifiedPoints& points,
   const uint64_t nx = uint64_t(hi.x - lo.x) + 1, ny = uint64_t(hi.y - lo.y) + 1;
   const uint64_t nz = uint64_t(hi.z - lo.z) + 1;
   int key_bits = bitsFor(2 * kBlockCells * nx * ny * nz - 1);
-  out.words.resize(points.used);
+  out.words.resize(points.used);  // every word is written below: zeroes only what it grows
   if (key_bits + out.point_bits <= 64) {
     if (hits_in) {  // the hits in its tiles
       // Neighbouring points often lie in different tiles: a table, not a hash per point.

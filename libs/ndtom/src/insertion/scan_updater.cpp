@@ -98,18 +98,6 @@ void ScanUpdater::recordStatsChanges() noexcept {
         emptied.cells[size_t(c.offset >> 6)] = uint64_t(1) << (c.offset & 63);
         blocks.push_back(emptied);
       }
-    std::sort(blocks.begin(), blocks.end(),
-              [](const BlockCells& a, const BlockCells& b) { return a.block < b.block; });
-    size_t kept = 0;  // one entry a block
-    for (size_t k = 0; k < blocks.size(); ++k) {
-      if (kept > 0 && blocks[kept - 1].block == blocks[k].block) {
-        for (size_t w = 0; w < blocks[k].cells.size(); ++w)
-          blocks[kept - 1].cells[w] |= blocks[k].cells[w];
-      } else {
-        blocks[kept++] = blocks[k];
-      }
-    }
-    blocks.resize(kept);
     if (!s_.apply.emptied_complete) return;  // left unknown
     changes.from = revision_before_;
     changes.to = map_.revision();

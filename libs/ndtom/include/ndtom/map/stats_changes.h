@@ -21,8 +21,10 @@ struct StatsChanges {
   /// The map's revision() before and after the change; `from` is 0 when what changed is not
   /// known (the last change was not an insertion, or it failed): derived data is rebuilt.
   uint64_t from = 0, to = 0;
-  /// Ascending by block, one entry a block: every cell whose statistics may have changed
-  /// (the scan's hit cells and the cells its rays emptied), a superset of those that did.
+  /// Every cell whose statistics may have changed (the scan's hit cells and the cells its
+  /// rays emptied), a superset of those that did; in no particular order, and a block may
+  /// have several entries (sorting them would be serial work in every insertion, for the
+  /// followers that want them).
   std::vector<BlockCells> blocks;
 };
 
