@@ -67,6 +67,7 @@ class MapUpdate {
   BlockGrid<MapBlock>& grid_;
   ApplyBuffers& b_;
   size_t free_threads_ = 1, hit_threads_ = 1;
+  size_t traced_blocks_ = 0;  ///< tables[0]'s own blocks, [0, traced_blocks_): the rest are zero
 };
 
 MapChange MapUpdate::run(InsertionReport& report) {
@@ -82,7 +83,7 @@ MapChange MapUpdate::run(InsertionReport& report) {
           counts->count[size_t(w * 64 + __builtin_ctzll(bits))] = 0;
     }
   });
-  const size_t traced_blocks = counts_.tables[0].numBlocks();  // before the others merge in
+  traced_blocks_ = counts_.tables[0].numBlocks();  // before the others merge in
   allocate(report.hits, report.cells_hit);
 
   MapChange change;
@@ -124,7 +125,7 @@ MapChange MapUpdate::run(InsertionReport& report) {
     if (tables == 1)
       counts_.tables[t].reset();  // applyFreeCounts zeroed its blocks
     else if (t == 0)
-      counts_.tables[t].clear(traced_blocks);  // blocks merged in after the walk stayed zero
+      counts_.tables[t].clear(traced_blocks_);  // blocks merged in after the walk stayed zero
     else
       counts_.tables[t].clear();
   });
@@ -252,15 +253,28 @@ void MapUpdate::applyFreeCounts(size_t begin, size_t end, ApplyBuffers::Part& pa
   alignas(64) std::array<uint32_t, kBlockCells> sum;
   for (size_t b = begin; b < end; ++b) {
     // With several tables the sum goes to a local buffer: the tables are only read here, so
-    // their cache lines stay with the threads that count into them.
-    const uint32_t* count = merged.block(b).count.data();
+    // their cache lines stay with the threads that count into them. A block walked by one
+    // thread only (most: each walks a fan of neighbouring rays) is read where it is, and
+    // tables[0]'s blocks merged in after the walk are zero: neither is read or copied.
+    const uint32_t* count = b < traced_blocks_ ? merged.block(b).count.data() : nullptr;
     if (others > 0) {
-      std::copy_n(count, kBlockCells, sum.data());
-      for (size_t t = 0; t < others; ++t)
-        if (const CountBlock* other = b_.other_counts[b * others + t])
-          for (int k = 0; k < kBlockCells; ++k) sum[size_t(k)] += other->count[size_t(k)];
-      count = sum.data();
+      bool summed = false;
+      for (size_t t = 0; t < others; ++t) {
+        const CountBlock* other = b_.other_counts[b * others + t];
+        if (!other) continue;
+        if (!count) {
+          count = other->count.data();
+          continue;
+        }
+        if (!summed) {
+          std::copy_n(count, kBlockCells, sum.data());
+          summed = true;
+        }
+        for (int k = 0; k < kBlockCells; ++k) sum[size_t(k)] += other->count[size_t(k)];
+      }
+      if (summed) count = sum.data();
     }
+    if (!count) continue;  // a hit block no ray crossed elsewhere: nothing free in it
     MapBlock& block = *b_.map_blocks[b];
     for (int g = 0; g < kBlockCells; g += kCountGroup) {
       // Visit only the crossed cells (a test per cell would be a coin-flip branch); tracking
