@@ -84,7 +84,7 @@ void addCoarseBits(const BlockCells& fine, int factor, std::array<uint64_t, kBlo
     for (uint64_t word = fine.cells[w]; word != 0; word &= word - 1) {
       const CellIndex coarse = cellwiseFloorDiv(
           cellInBlock(fine.block, int(w * 64) + __builtin_ctzll(word)), factor);
-      const int offset = offsetInBlock(coarse);  // inside coarse_block, by construction
+      const int offset = offsetInBlock(coarse);  // in the fine block's coarse block
       bits[size_t(offset) >> 6] |= uint64_t(1) << (offset & 63);
     }
 }

@@ -39,6 +39,30 @@ std::string levelNames(const std::vector<int>& factors) {
   return names;
 }
 
+// f(level, i, scratch) for items i < sizes[level] of every level, each on its own: threads
+// take runs of `per_take` as they go, each with its own default-made Scratch. Returns the
+// sum of what f returns.
+template <class Scratch, class F>
+size_t forEachLevelItem(WorkerPool& pool, size_t threads, const std::vector<size_t>& sizes,
+                        size_t per_take, F&& f) {
+  std::vector<size_t> starts{0};
+  for (const size_t n : sizes) starts.push_back(starts.back() + n);
+  const size_t total = starts.back();
+  std::atomic<size_t> next{0}, sum{0};
+  pool.run(threadsFor(total, per_take, threads), [&](size_t) {
+    Scratch scratch{};
+    size_t sum_here = 0;
+    for (size_t begin; (begin = next.fetch_add(per_take)) < total;)
+      for (size_t k = begin; k < std::min(total, begin + per_take); ++k) {
+        const size_t l =
+            size_t(std::upper_bound(starts.begin(), starts.end(), k) - starts.begin()) - 1;
+        sum_here += f(l, k - starts[l], scratch);
+      }
+    sum += sum_here;
+  });
+  return sum.load();
+}
+
 }  // namespace
 
 MapPyramid::MapPyramid(const NdtMap& map, const std::vector<int>& factors, int threads,
@@ -61,27 +85,21 @@ MapPyramid::MapPyramid(const NdtMap& map, const std::vector<int>& factors, int t
 
 void MapPyramid::build(const NdtMap& map, const std::vector<std::vector<BlockCells>>& blocks) {
   // Every (level, coarse block) on its own, its Gaussians made and kept by the thread that
-  // takes it: threads take runs of blocks as they go.
+  // takes it.
   std::vector<CoarseCells> coarse;
   std::vector<std::vector<GaussianBlock>> made(factors_.size());
-  std::vector<size_t> starts{0};
+  std::vector<size_t> sizes;
   for (size_t l = 0; l < factors_.size(); ++l) {
     coarse.emplace_back(map, factors_[l], members_);
     made[l].resize(blocks[l].size());
-    starts.push_back(starts.back() + blocks[l].size());
+    sizes.push_back(blocks[l].size());
   }
   constexpr size_t kBlocksPerTake = 8;
-  std::atomic<size_t> next{0}, found{0};
-  const size_t total = starts.back();
-  work_->pool.run(threadsFor(total, kBlocksPerTake, work_->threads), [&](size_t) {
-    size_t found_here = 0;
-    std::vector<PreparedGaussian> gaussians;
-    for (size_t begin; (begin = next.fetch_add(kBlocksPerTake)) < total;)
-      for (size_t k = begin; k < std::min(total, begin + kBlocksPerTake); ++k) {
-        const size_t l =
-            size_t(std::upper_bound(starts.begin(), starts.end(), k) - starts.begin()) - 1;
-        const BlockCells& cells = blocks[l][k - starts[l]];
-        GaussianBlock& out = made[l][k - starts[l]];
+  const size_t found = forEachLevelItem<std::vector<PreparedGaussian>>(
+      work_->pool, work_->threads, sizes, kBlocksPerTake,
+      [&](size_t l, size_t i, std::vector<PreparedGaussian>& gaussians) {
+        const BlockCells& cells = blocks[l][i];
+        GaussianBlock& out = made[l][i];
         out.block = cells.block;
         gaussians.clear();
         for (size_t w = 0; w < cells.cells.size(); ++w)
@@ -94,11 +112,9 @@ void MapPyramid::build(const NdtMap& map, const std::vector<std::vector<BlockCel
           }
         out.gaussians.reserve(gaussians.size());  // exactly: memoryBytes() counts capacity
         std::move(gaussians.begin(), gaussians.end(), std::back_inserter(out.gaussians));
-        found_here += gaussians.size();
-      }
-    found += found_here;
-  });
-  checkBudget(map, found.load(), /*beside_levels=*/false);
+        return gaussians.size();
+      });
+  checkBudget(map, found, /*beside_levels=*/false);
   levels_.resize(factors_.size());
   const size_t threads = std::min(work_->threads, factors_.size());
   work_->pool.run(threads, [&](size_t t) {
@@ -176,32 +192,23 @@ void MapPyramid::redo(const NdtMap& map, const std::vector<std::vector<CellIndex
 std::vector<std::vector<CellChange>> MapPyramid::redoCells(
     const NdtMap& map, const std::vector<std::vector<CellIndex>>& cells, const BlockFilter& members,
     size_t& gaussians) {
-  // Every (level, cell) on its own: threads take runs of them as they go.
+  // Every (level, cell) on its own.
   std::vector<CoarseCells> coarse;
   std::vector<std::vector<CellChange>> changes(factors_.size());
-  std::vector<size_t> starts{0};
+  std::vector<size_t> sizes;
   for (size_t l = 0; l < factors_.size(); ++l) {
     coarse.emplace_back(map, factors_[l], members);
     changes[l].resize(cells[l].size());
-    starts.push_back(starts.back() + cells[l].size());
+    sizes.push_back(cells[l].size());
   }
   constexpr size_t kCellsPerTake = 256;
-  std::atomic<size_t> next{0}, found{0};
-  const size_t total = starts.back();
-  work_->pool.run(std::min(work_->threads, total / kCellsPerTake + 1), [&](size_t) {
-    size_t found_here = 0;
-    for (size_t begin; (begin = next.fetch_add(kCellsPerTake)) < total;)
-      for (size_t k = begin; k < std::min(total, begin + kCellsPerTake); ++k) {
-        const size_t l =
-            size_t(std::upper_bound(starts.begin(), starts.end(), k) - starts.begin()) - 1;
-        CellChange& change = changes[l][k - starts[l]];
-        change.cell = cells[l][k - starts[l]];
-        change.gaussian = coarse[l].gaussian(change.cell);
-        found_here += change.gaussian.has_value();
-      }
-    found += found_here;
-  });
-  gaussians = found.load();
+  gaussians = forEachLevelItem<int>(work_->pool, work_->threads, sizes, kCellsPerTake,
+                                    [&](size_t l, size_t i, int&) -> size_t {
+                                      CellChange& change = changes[l][i];
+                                      change.cell = cells[l][i];
+                                      change.gaussian = coarse[l].gaussian(change.cell);
+                                      return change.gaussian.has_value();
+                                    });
   return changes;
 }
 
