@@ -63,6 +63,15 @@ size_t forEachLevelItem(WorkerPool& pool, size_t threads, const std::vector<size
   return sum.load();
 }
 
+// f(level) for each of `levels` levels, one level per thread: a level's lookup is one object.
+template <class F>
+void forEachLevel(WorkerPool& pool, size_t threads, size_t levels, F&& f) {
+  threads = std::min(threads, levels);
+  pool.run(threads, [&](size_t t) {
+    for (size_t l = t; l < levels; l += threads) f(l);
+  });
+}
+
 }  // namespace
 
 MapPyramid::MapPyramid(const NdtMap& map, const std::vector<int>& factors, int threads,
@@ -116,13 +125,10 @@ void MapPyramid::build(const NdtMap& map, const std::vector<std::vector<BlockCel
       });
   checkBudget(map, found, /*beside_levels=*/false);
   levels_.resize(factors_.size());
-  const size_t threads = std::min(work_->threads, factors_.size());
-  work_->pool.run(threads, [&](size_t t) {
-    for (size_t l = t; l < factors_.size(); l += threads) {
-      const LookupOptions options{/*occupied_only=*/true, /*nearest_means=*/false};
-      const GridGeometry geometry(map.options().resolution * factors_[l]);
-      levels_[l] = std::make_unique<GaussianLookup>(geometry, std::move(made[l]), options);
-    }
+  forEachLevel(work_->pool, work_->threads, factors_.size(), [&](size_t l) {
+    const LookupOptions options{/*occupied_only=*/true, /*nearest_means=*/false};
+    const GridGeometry geometry(map.options().resolution * factors_[l]);
+    levels_[l] = std::make_unique<GaussianLookup>(geometry, std::move(made[l]), options);
   });
 }
 
@@ -183,10 +189,8 @@ void MapPyramid::redo(const NdtMap& map, const std::vector<std::vector<CellIndex
   size_t gaussians = 0;
   std::vector<std::vector<CellChange>> changes = redoCells(map, cells, members, gaussians);
   checkBudget(map, gaussians, /*beside_levels=*/true);
-  const size_t threads = std::min(work_->threads, factors_.size());
-  work_->pool.run(threads, [&](size_t t) {
-    for (size_t l = t; l < factors_.size(); l += threads) levels_[l]->update(std::move(changes[l]));
-  });
+  forEachLevel(work_->pool, work_->threads, factors_.size(),
+               [&](size_t l) { levels_[l]->update(std::move(changes[l])); });
 }
 
 std::vector<std::vector<CellChange>> MapPyramid::redoCells(
