@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include "amdahl.h"
 #include "microbench_data.h"
 #include "ndtom/files/map_io.h"
 #include "ndtom/registration/map_pyramid.h"
@@ -52,10 +53,11 @@ void BM_PyramidBuild(benchmark::State& state) {
     gaussians = 0;
     for (size_t l = 0; l < pyramid.size(); ++l) gaussians += pyramid.level(l).size();
   }
-  const double p = profile.parallelWallSeconds() / profile.wallSeconds();
+  const double p =
+      ndtom::bench::parallelFraction(profile.parallelWallSeconds(), profile.wallSeconds());
   state.counters["gaussians"] = double(gaussians);
   state.counters["parallel_fraction"] = p;
-  state.counters["predicted_s16"] = 1 / ((1 - p) + p / 16);
+  state.counters["predicted_s16"] = ndtom::bench::amdahlSpeedup(p, 16);
   state.SetLabel((file ? std::string(file) : std::to_string(mapScans() + 1) + " scans") +
                  ", levels 16 8 4 2 1, whole");
 }
