@@ -31,6 +31,19 @@ std::vector<const PreparedGaussian*> gaussiansOf(const GaussianLookup& lookup) {
   return out;
 }
 
+/// `got` holds `want`'s Gaussians in the same order, each found by its cell.
+void expectSameGaussians(const GaussianLookup& got_lookup, const GaussianLookup& want_lookup) {
+  ASSERT_EQ(got_lookup.size(), want_lookup.size());
+  const auto got = gaussiansOf(got_lookup), want = gaussiansOf(want_lookup);
+  ASSERT_EQ(got.size(), want.size());
+  for (size_t i = 0; i < got.size(); ++i) {
+    EXPECT_EQ(got[i]->cell, want[i]->cell);
+    EXPECT_EQ(got[i]->mean, want[i]->mean);
+    EXPECT_EQ(got[i]->information, want[i]->information);
+    EXPECT_EQ(got_lookup.find(got[i]->cell), got[i]);
+  }
+}
+
 TEST(GaussianLookup, HoldsEveryGaussianOfTheMapInBlockOrder) {
   const NdtMap map = roomMap(0.5);
   const GaussianLookup lookup(map);
@@ -226,15 +239,7 @@ TEST(GaussianLookup, UpdateGivesTheLookupOfTheChangedSet) {
   std::vector<ndtom::Gaussian> remaining;
   for (const auto& [cell, g] : expected) remaining.push_back(g);
   const GaussianLookup rebuilt(a.geometry(), remaining, no_tree);
-  ASSERT_EQ(lookup.size(), rebuilt.size());
-  const auto got = gaussiansOf(lookup), want = gaussiansOf(rebuilt);
-  ASSERT_EQ(got.size(), want.size());
-  for (size_t i = 0; i < got.size(); ++i) {
-    EXPECT_EQ(got[i]->cell, want[i]->cell);
-    EXPECT_EQ(got[i]->mean, want[i]->mean);
-    EXPECT_EQ(got[i]->information, want[i]->information);
-    EXPECT_EQ(lookup.find(got[i]->cell), got[i]);
-  }
+  expectSameGaussians(lookup, rebuilt);
   for (size_t i = 0; i < first.size(); i += 3) {
     if (expected.count(first[i].cell) == 0) {
       EXPECT_EQ(lookup.find(first[i].cell), nullptr);
@@ -270,14 +275,9 @@ TEST(GaussianLookup, BlocksMadeElsewhereGiveTheLookupOfTheirGaussians) {
   const GaussianLookup from_blocks(map.geometry(), blocks);
   const GaussianLookup from_any_order(map.geometry(), all);
   ASSERT_EQ(from_blocks.size(), all.size());
-  const auto got = gaussiansOf(from_blocks), want = gaussiansOf(from_any_order);
-  ASSERT_EQ(got.size(), want.size());
-  for (size_t i = 0; i < got.size(); ++i) {
-    EXPECT_EQ(got[i]->cell, want[i]->cell);
-    EXPECT_EQ(got[i]->information, want[i]->information);
-    EXPECT_EQ(from_blocks.find(got[i]->cell), got[i]);
-    EXPECT_EQ(&from_blocks.meanOwner(uint32_t(i)), got[i]);
-  }
+  expectSameGaussians(from_blocks, from_any_order);
+  const auto got = gaussiansOf(from_blocks);
+  for (size_t i = 0; i < got.size(); ++i) EXPECT_EQ(&from_blocks.meanOwner(uint32_t(i)), got[i]);
   EXPECT_EQ(from_blocks.memoryBytes(), from_any_order.memoryBytes());
   EXPECT_EQ(from_blocks.find({1000, 1000, 1000}), nullptr);
 
