@@ -9,12 +9,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=${1:-build-asan}
 scripts/setup.sh
-# -O1 -g1 (line tables only), as ASan's docs suggest: a heavy test file compiles in a third
-# of the time it takes at -O2 -g, and reports still name files and lines.
+# -O1 -g1 (line tables only), as ASan's docs suggest: a heavy file compiles in a third of the
+# time it takes at -O2 -g, and reports still name files and lines. The test programs
+# themselves at -O0: 12 s instead of 35 s for the heaviest, for 7 % more test time.
 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
   -DNDTOM_SANITIZE=ON -DNDTOM_WITH_MRPT=ON -DNDTOM_BUILD_APPS=ON -DNDTOM_BUILD_TESTS=ON \
-  -DNDTOM_BUILD_BENCHMARKS=OFF >/dev/null
+  -DNDTOM_BUILD_BENCHMARKS=OFF -DNDTOM_TEST_COMPILE_OPTIONS=-O0 >/dev/null
 cmake --build "$dir" -j2
 # Suppressions only for reports from MRPT's code, each explained in its file.
 supp=$PWD/tests/sanitizers
