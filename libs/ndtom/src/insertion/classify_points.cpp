@@ -62,10 +62,9 @@ inline PointKind classify(const Eigen::Vector3d& p, const Limits& limits, Eigen:
 
 }  // namespace
 
-void classifyPoints(const ScanContext& scan, const std::vector<Eigen::Vector3d>& points,
+void classifyPoints(const ScanContext& scan, const Eigen::Vector3d* points, size_t n,
                     ClassifiedPoints& out, InsertionReport& report) {
   constexpr size_t kPieces = ClassifiedPoints::kRayPieces;
-  const size_t n = points.size();
   out.kinds.resize(n);
   out.ends.resize(n);
   out.end_cells.resize(n);
@@ -108,6 +107,32 @@ void classifyPoints(const ScanContext& scan, const std::vector<Eigen::Vector3d>&
     widen(out.ends_lo, out.ends_hi, part.hi);
   }
   out.used = out.used_before.back();
+}
+
+void listHits(const ScanContext& scan, const std::vector<std::vector<Eigen::Vector3d>>& parts,
+              ClassifiedPoints& out) {
+  constexpr size_t kPieces = ClassifiedPoints::kRayPieces;
+  out.ends.clear();
+  for (const std::vector<Eigen::Vector3d>& part : parts)
+    out.ends.insert(out.ends.end(), part.begin(), part.end());
+  const size_t n = out.ends.size();
+  out.kinds.assign(n, PointKind::kHit);
+  out.end_cells.resize(n);
+  out.ends_lo = {kMaxCellIndex, kMaxCellIndex, kMaxCellIndex};
+  out.ends_hi = {-kMaxCellIndex, -kMaxCellIndex, -kMaxCellIndex};
+  for (size_t i = 0; i < n; ++i) {  // as classify(): floorCell of the scaled hit
+    out.end_cells[i] = GridGeometry::floorCell(out.ends[i] * scan.geometry.invResolution());
+    widen(out.ends_lo, out.ends_hi, out.end_cells[i]);
+  }
+  // Chunks as classification's, every point used: sorting's threads take them.
+  const size_t threads = scan.threadsFor(n, kMinPointsPerThread);
+  out.chunk_starts.resize(threads + 1);
+  out.used_before.resize(threads + 1);
+  for (size_t t = 0; t <= threads; ++t)
+    out.used_before[t] = out.chunk_starts[t] =
+        partRange(n, kPieces, partRange(kPieces, threads, t).first).first;
+  out.piece_lengths.fill(0.0);  // no rays: the hits' rays were walked where they were classified
+  out.used = n;
 }
 
 }  // namespace ndtom

@@ -39,9 +39,18 @@ struct ClassifiedPoints {
   size_t chunks() const { return chunk_starts.size() - 1; }
 };
 
-/// Classifies `points` into `out`, counting each point in `report` (hits, truncated, or the
-/// reason it was rejected).
-void classifyPoints(const ScanContext& scan, const std::vector<Eigen::Vector3d>& points,
+/// Classifies the n points from `points` into `out`, counting each point in `report` (hits,
+/// truncated, or the reason it was rejected).
+void classifyPoints(const ScanContext& scan, const Eigen::Vector3d* points, size_t n,
                     ClassifiedPoints& out, InsertionReport& report);
+inline void classifyPoints(const ScanContext& scan, const std::vector<Eigen::Vector3d>& points,
+                           ClassifiedPoints& out, InsertionReport& report) {
+  classifyPoints(scan, points.data(), points.size(), out, report);
+}
+
+/// Hits classified elsewhere (a distributed build's processes, each a share of the scan), in
+/// the order of `parts`, as classifying them would list them: the same ends and cells.
+void listHits(const ScanContext& scan, const std::vector<std::vector<Eigen::Vector3d>>& parts,
+              ClassifiedPoints& out);
 
 }  // namespace ndtom

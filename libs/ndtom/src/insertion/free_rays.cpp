@@ -69,7 +69,8 @@ std::vector<double> cumulativeRayLength(const ScanContext& scan, const Rays& ray
 // walks a range of them, of its share of their length. Returns threads + 1 bounds.
 std::vector<size_t> rayRanges(const ScanContext& scan, const ScanPart* part, const Rays& rays,
                               size_t threads) {
-  const bool share_rays = part && part->exchange;
+  // Per-point rays are shared with the points: this process's are all its own.
+  const bool share_rays = part && part->exchange && !rays.per_point;
   const size_t ranks = share_rays ? size_t(part->owned.ranks) : 1;
   const size_t rank = share_rays ? size_t(part->owned.rank) : 0;
   const size_t items = rays.items();
@@ -147,12 +148,40 @@ size_t walkOnThreads(const ScanContext& scan, const Rays& rays, const std::vecto
   return total;
 }
 
+// Per-point rays shared out: this process's hits go to the owners of their tiles.
+void routeHits(const ClassifiedPoints& points, const TileOwnership& owned, FreeCounts& out) {
+  for (auto* lists : {&out.hits_to, &out.hits_from}) {
+    lists->resize(size_t(owned.ranks));
+    for (std::vector<Eigen::Vector3d>& hits : *lists) hits.clear();
+  }
+  CellIndex last_tile{};
+  int owner = -1;  // consecutive points mostly share a tile
+  for (size_t i = 0; i < points.points(); ++i) {
+    if (points.kinds[i] != PointKind::kHit) continue;
+    const CellIndex tile = tileOfBlock(blockOf(points.end_cells[i]), owned.tile_blocks);
+    if (owner < 0 || tile != last_tile) owner = owned.ownerOfTile(tile), last_tile = tile;
+    (owner == owned.rank ? out.hits_from : out.hits_to)[size_t(owner)].push_back(points.ends[i]);
+  }
+}
+
 // Sends the counts in other processes' tiles to their owners and adds theirs in this one's
-// tiles as one more table (the apply stage sums the tables).
-void tradeCounts(const TileOwnership& owned, CountExchange& exchange, size_t threads,
-                 FreeCounts& out) {
-  out.outgoing.resize(size_t(owned.ranks));
-  for (std::vector<uint32_t>& words : out.outgoing) words.clear();
+// tiles as one more table (the apply stage sums the tables); with the points shared out, the
+// hits and point counts too.
+void tradeCounts(const ScanContext& scan, const ClassifiedPoints& points, bool share_points,
+                 const TileOwnership& owned, CountExchange& exchange, size_t threads,
+                 FreeCounts& out, InsertionReport& report) {
+  const size_t ranks = size_t(owned.ranks), rank = size_t(owned.rank);
+  if (share_points) routeHits(points, owned, out);
+  out.outgoing.resize(ranks);
+  for (size_t r = 0; r < ranks; ++r) {
+    std::vector<uint32_t>& words = out.outgoing[r];
+    words.clear();
+    if (r == rank) continue;
+    if (share_points)
+      appendMessageHead(report, out.hits_to[r].data(), out.hits_to[r].size(), words);
+    else
+      appendMessageHead(InsertionReport{}, nullptr, 0, words);
+  }
   for (size_t t = 0; t < threads; ++t) {
     ScanCounts& table = out.tables[t];
     for (size_t i = 0; i < table.numBlocks(); ++i) {
@@ -162,17 +191,33 @@ void tradeCounts(const TileOwnership& owned, CountExchange& exchange, size_t thr
         appendCountBlock(b, table.block(i).count.data(), out.outgoing[size_t(owner)]);
     }
   }
-  out.exchanged = true;
-  if (!exchange.exchange(false, out.outgoing, out.incoming))
+  --out.exchanges_left;
+  if (!exchange.exchange(false, out.outgoing, out.incoming)) {
+    out.exchanges_left = 0;  // every process stops here
     throw std::runtime_error(
         "insertScanPart: another process of the distributed build failed on this scan");
+  }
   if (out.tables.size() < threads + 1) out.tables.resize(threads + 1);
   ScanCounts& received = out.tables[threads];
   received.setBlockLimit(nullptr);
-  for (const std::vector<uint32_t>& words : out.incoming)
-    addCountMessage(words, owned,
-                    [&](const CellIndex& b) { return received.blockAt(b).count.data(); });
   out.used = threads + 1;
+  InsertionReport others;
+  std::vector<Eigen::Vector3d> no_hits;
+  for (size_t r = 0; r < ranks; ++r) {
+    if (r == rank) continue;
+    const std::vector<uint32_t>& words = out.incoming[r];
+    const size_t at = readMessageHead(words, owned, scan.geometry, others,
+                                      share_points ? out.hits_from[r] : no_hits);
+    addCountMessage(words, at, owned,
+                    [&](const CellIndex& b) { return received.blockAt(b).count.data(); });
+  }
+  // The processes' shares add up to the scan (without sharing, every process has all of it).
+  const size_t others_points = others.pointsUsed() + others.rejected();
+  const size_t own_points = share_points ? report.pointsUsed() + report.rejected() : 0;
+  if (!no_hits.empty() ||
+      others_points != (share_points ? report.points_in - own_points : 0))
+    throw malformedMessage();
+  report += others;
 }
 
 }  // namespace
@@ -199,7 +244,8 @@ void traceFreeRays(const ScanContext& scan, const ScanPart* part, const Classifi
   if (!part) return;
   // The stretches' walks also count a cell or two of other processes' tiles at their ends;
   // whole rays count in every tile, and those counts go to the tiles' owners.
-  if (part->exchange) tradeCounts(part->owned, *part->exchange, threads, out);
+  if (part->exchange)
+    tradeCounts(scan, points, rays.per_point, part->owned, *part->exchange, threads, out, report);
   for (size_t t = 0; t < threads; ++t)
     out.tables[t].keepBlocksWhere([&](const CellIndex& b) { return part->owned.ownsBlock(b); });
 }

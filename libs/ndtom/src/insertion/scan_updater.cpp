@@ -31,8 +31,17 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
                                  const Eigen::Vector3d& origin) {
   StageClock clock(options_.profile);
   clock.next("setup");
-  // Any failure before this scan's count exchange, from here on, is told to the others.
-  s_.free_counts.exchanged = false;
+  // Any failure before one of this scan's exchanges, from here on, is told to the others.
+  const bool occupancy = map_.options().occupancy.enabled;
+  const bool ray_per_group = occupancy && options_.ray_mode == RayMode::PerHitCell;
+  // Per-point rays need no groups to be cast: a process sharing the rays out classifies a
+  // share of the points and walks their rays, and the owners update the hits (a second
+  // exchange agrees that every process could). Per-hit-cell rays are cast to the groups, so
+  // there every process classifies and groups every end.
+  const bool share_points = part_ && part_->exchange && occupancy && !ray_per_group;
+  s_.free_counts.exchanges_left = !part_ || !part_->exchange || !occupancy ? 0
+                                  : share_points                          ? 2
+                                                                          : 1;
   struct FailureNotice {
     ScanUpdater& updater;
     const int exceptions = std::uncaught_exceptions();
@@ -51,24 +60,26 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
   checkBudgetForPoints(points.size());
   const ScanContext scan{map_.geometry(), options_, origin, s_.pool};
   const TileOwnership* owned = part_ ? &part_->owned : nullptr;
-  const bool occupancy = map_.options().occupancy.enabled;
-  const bool ray_per_group = occupancy && options_.ray_mode == RayMode::PerHitCell;
 
   // Nothing below touches the map until applyToMap(), which cannot fail half-way.
   try {
-    clock.next("classify");
-    classifyPoints(scan, points, s_.points, report);
-    // Per-point rays need no groups: a process sorts and groups only its tiles' hits (the
-    // per-hit-cell mode casts a ray per group, so there every process groups every end).
-    clock.next("sort");
-    sortRayEnds(scan, s_.points, ray_per_group ? nullptr : owned, s_.ray_ends);
-    clock.next("group");
-    groupEnds(scan, s_.points, s_.ray_ends, ray_per_group ? GroupMeans::Compute : GroupMeans::Skip,
-              s_.groups, report);
-    if (owned) dropHitsOutside(*owned);
-    checkBudgetForEnds(report);
-    clock.next("trace");
-    if (occupancy) traceFreeRaysInBudget(scan, report);
+    if (share_points) {
+      insertSharingPoints(scan, points, report, clock);
+    } else {
+      clock.next("classify");
+      classifyPoints(scan, points, s_.points, report);
+      // Without sharing the points, a process with per-point rays sorts and groups only its
+      // tiles' hits.
+      clock.next("sort");
+      sortRayEnds(scan, s_.points, ray_per_group ? nullptr : owned, s_.ray_ends);
+      clock.next("group");
+      groupEnds(scan, s_.points, s_.ray_ends,
+                ray_per_group ? GroupMeans::Compute : GroupMeans::Skip, s_.groups, report);
+      if (owned) dropHitsOutside(*owned);
+      checkBudgetForEnds(report);
+      clock.next("trace");
+      if (occupancy) traceFreeRaysInBudget(scan, s_.points, report);
+    }
     clock.next("apply");
     const MapChange change = applyToMap(scan, map_.options(), s_.groups, s_.free_counts,
                                         MapInternals::grid(map_), s_.apply, report);
@@ -83,6 +94,43 @@ InsertionReport ScanUpdater::run(const std::vector<Eigen::Vector3d>& points,
     throw;
   }
   return report;
+}
+
+void ScanUpdater::insertSharingPoints(const ScanContext& scan,
+                                      const std::vector<Eigen::Vector3d>& points,
+                                      InsertionReport& report, StageClock& clock) {
+  const TileOwnership& owned = part_->owned;
+  clock.next("classify");
+  const auto [first, last] = partRange(points.size(), size_t(owned.ranks), size_t(owned.rank));
+  classifyPoints(scan, points.data() + first, last - first, s_.points, report);
+  // Tracing comes before the hits are known, so its blocks are limited by what the points
+  // leave of the budget, and counted with the hits' below.
+  const int64_t blocks_for_tracing =
+      int64_t((std::max(options_.memory_budget, budget_used_) - budget_used_) / kBytesPerNewBlock);
+  blocks_left_.store(blocks_for_tracing, std::memory_order_relaxed);
+  s_.groups.hit_blocks.clear();  // the last scan's: not counted in a budget error
+  clock.next("trace");
+  traceFreeRaysInBudget(scan, s_.points, report);  // the exchange: hits and counts
+  budget_used_ += uint64_t(blocks_for_tracing - blocks_left_.load(std::memory_order_relaxed)) *
+                  kBytesPerNewBlock;
+  clock.next("sort");
+  listHits(scan, s_.free_counts.hits_from, s_.own_hits);
+  sortRayEnds(scan, s_.own_hits, nullptr, s_.ray_ends);
+  clock.next("group");
+  groupEnds(scan, s_.own_hits, s_.ray_ends, GroupMeans::Skip, s_.groups, report);
+  checkBudgetForEnds(report);
+  agreeWithOthers();
+}
+
+void ScanUpdater::agreeWithOthers() {
+  FreeCounts& counts = s_.free_counts;
+  --counts.exchanges_left;
+  std::vector<std::vector<uint32_t>> nothing(size_t(part_->owned.ranks)), ignored;
+  if (!part_->exchange->exchange(false, nothing, ignored)) {
+    counts.exchanges_left = 0;  // every process stops here
+    throw std::runtime_error(
+        "insertScanPart: another process of the distributed build failed on this scan");
+  }
 }
 
 void ScanUpdater::recordStatsChanges() noexcept {
@@ -107,11 +155,10 @@ void ScanUpdater::recordStatsChanges() noexcept {
 }
 
 void ScanUpdater::tellOthersOfFailure() noexcept {
-  // The others wait in this scan's exchange. A process whose exchange itself threw does not
-  // call it again.
-  if (!part_ || !part_->exchange || !map_.options().occupancy.enabled || s_.free_counts.exchanged)
-    return;  // (without occupancy no process traces rays, so none exchanges)
-  s_.free_counts.exchanged = true;
+  // The others wait in this scan's next exchange, and stop there: one call. A process whose
+  // exchange itself threw does not call it again.
+  if (!part_ || !part_->exchange || s_.free_counts.exchanges_left <= 0) return;
+  s_.free_counts.exchanges_left = 0;
   try {
     std::vector<std::vector<uint32_t>> none, ignored;
     part_->exchange->exchange(true, none, ignored);
@@ -154,9 +201,10 @@ void ScanUpdater::checkBudgetForEnds(const InsertionReport& report) {
                      std::memory_order_relaxed);
 }
 
-void ScanUpdater::traceFreeRaysInBudget(const ScanContext& scan, InsertionReport& report) {
+void ScanUpdater::traceFreeRaysInBudget(const ScanContext& scan, const ClassifiedPoints& points,
+                                        InsertionReport& report) {
   try {
-    traceFreeRays(scan, part_, s_.points, s_.groups, blocks_left_, s_.free_counts, report);
+    traceFreeRays(scan, part_, points, s_.groups, blocks_left_, s_.free_counts, report);
   } catch (const BlockLimitReached&) {
     char resolution[32];
     std::snprintf(resolution, sizeof(resolution), "%g", map_.options().resolution);

@@ -18,6 +18,7 @@
 #include "map/map_internals.h"
 #include "ndtom/map/ndt_map.h"
 #include "support/parallel.h"
+#include "support/stage_clock.h"
 
 namespace ndtom {
 
@@ -25,6 +26,9 @@ namespace ndtom {
 /// stages' outputs, whose buffers are reused, and the threads.
 struct ScanScratch {
   ClassifiedPoints points;  ///< 1. what each point is, its ray end and end cell
+  /// A distributed build's process sharing the points out: the hits in its own tiles, of
+  /// all processes' shares (sorted and grouped in place of `points`).
+  ClassifiedPoints own_hits;
   SortedRayEnds ray_ends;   ///< 2. the ray ends keyed by cell and sorted
   EndGroups groups;         ///< 3. the ray ends per cell
   FreeCounts free_counts;   ///< 4. N_e per cell
@@ -61,8 +65,16 @@ class ScanUpdater {
   void checkBudgetForEnds(const InsertionReport& report);
   /// After a successful update: the cells it may have changed (NdtMap::lastStatsChanges()).
   void recordStatsChanges() noexcept;
-  /// traceFreeRays, throwing MemoryBudgetError if its tables would pass the budget.
-  void traceFreeRaysInBudget(const ScanContext& scan, InsertionReport& report);
+  /// traceFreeRays of `points`, throwing MemoryBudgetError if its tables would pass the budget.
+  void traceFreeRaysInBudget(const ScanContext& scan, const ClassifiedPoints& points,
+                             InsertionReport& report);
+  /// The stages up to the update for a process that classifies its share of the points,
+  /// walks their rays, and groups the hits all processes classified in its tiles.
+  void insertSharingPoints(const ScanContext& scan, const std::vector<Eigen::Vector3d>& points,
+                           InsertionReport& report, StageClock& clock);
+  /// The exchange after the hits are grouped and checked against the budget: throws
+  /// std::runtime_error if another process failed.
+  void agreeWithOthers();
 
   NdtMap& map_;
   const ScanOptions& options_;

@@ -24,8 +24,11 @@ InsertionReport insertScanPart(NdtMap& map, const std::vector<Eigen::Vector3d>& 
 
 /// The rays shared out instead of their stretches: this process walks its share of the scan's
 /// rays through every tile and trades counts with the other processes through `exchange`,
-/// which every process must call for every scan. The same cells change, to the same values.
-/// Throws std::runtime_error, the map unchanged, if another process failed on this scan.
+/// which every process must call for every scan. With per-point rays its share is a share of
+/// the points: it classifies only those, and trades their hits and point counts too, so the
+/// report's point counts are still the scan's. The same cells change, to the same values.
+/// Throws std::runtime_error, the map unchanged, if another process failed on this scan or
+/// sent a malformed message.
 InsertionReport insertScanPart(NdtMap& map, const std::vector<Eigen::Vector3d>& points,
                                const Eigen::Vector3d& sensor_origin, const ScanOptions& options,
                                const TileOwnership& owned, CountExchange& exchange);
