@@ -229,6 +229,29 @@ void expectRefused(ndtom::RayMode mode, const std::vector<Words>& forgeries, con
   }
 }
 
+// The message process 1 of 2 sends process 0 in its first exchange of `scan`.
+Words firstMessageOfProcessOne(const ndtom::MapOptions& o, const ndtom::testing::WorldScan& scan) {
+  struct RecordingPort : ndtom::CountExchange {
+    ndtom::CountExchange& inner;
+    Words* record;
+    RecordingPort(ndtom::CountExchange& port, Words* to) : inner(port), record(to) {}
+    bool exchange(bool failed, const std::vector<std::vector<uint32_t>>& outgoing,
+                  std::vector<std::vector<uint32_t>>& incoming) override {
+      if (record && !failed) *record = outgoing[0];
+      record = nullptr;
+      return inner.exchange(failed, outgoing, incoming);
+    }
+  };
+  ndtom::ThreadCountExchange hub(2);
+  Words sent;
+  onThreads(2, [&](int rank) {
+    NdtMap part(o);
+    RecordingPort port(hub.port(rank), rank == 1 ? &sent : nullptr);
+    ndtom::insertScanPart(part, scan.points, scan.origin, o.scan, TileOwnership{2, rank, 2}, port);
+  });
+  return sent;
+}
+
 }  // namespace
 
 TEST(SharedRays, RefusesAMalformedMessageAndKeepsItsMap) {
@@ -254,16 +277,20 @@ TEST(SharedRays, RefusesAMalformedMessageAndKeepsItsMap) {
                 nothing + Words{mine, 0, 0, 1, 5, 1});
 }
 
-// Per-point rays: process 1 classified the second half of the points; its counts are taken
-// here from a serial insertion of that half.
+// Per-point rays: process 1 classified a share of the points; its counts are taken here
+// from the message it sends in a build by two processes.
 TEST(SharedRays, RefusesAMalformedMessageOfHitsAndKeepsItsMap) {
   const auto scans = ndtom::testing::lidarScansInWorld(2);
   const ndtom::MapOptions o = clampingOptions(ndtom::RayMode::PerPoint);
-  const auto& points = scans[1].points;
-  NdtMap scratch(o);
-  const ndtom::InsertionReport half = scratch.insertScan(
-      std::vector<Eigen::Vector3d>(points.begin() + std::ptrdiff_t(points.size() / 2), points.end()),
-      scans[1].origin);
+  const Words sent = firstMessageOfProcessOne(o, scans[1]);
+  ASSERT_GE(sent.size(), 7u);
+  ndtom::InsertionReport half;
+  half.hits = sent[0];
+  half.truncated = sent[1];
+  half.rejected_non_finite = sent[2];
+  half.rejected_too_close = sent[3];
+  half.rejected_out_of_grid = sent[4];
+  half.rejected_too_far = sent[5];
   ASSERT_GT(half.hits, 0u);
   ASSERT_GT(half.truncated + half.rejected(), 0u);  // the other counts are checked too
   const TileOwnership owned{2, 0, 2};

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "insertion/point_shares.h"
 #include "ndtom_internal/input_file.h"
 #include "support/stage_clock.h"
 
@@ -101,7 +102,8 @@ void ScanUpdater::insertSharingPoints(const ScanContext& scan,
                                       InsertionReport& report, StageClock& clock) {
   const TileOwnership& owned = part_->owned;
   clock.next("classify");
-  const auto [first, last] = partRange(points.size(), size_t(owned.ranks), size_t(owned.rank));
+  const auto [first, last] =
+      pointShare(scan, points.data(), points.size(), size_t(owned.ranks), size_t(owned.rank));
   classifyPoints(scan, points.data() + first, last - first, s_.points, report);
   // Tracing comes before the hits are known, so its blocks are limited by what the points
   // leave of the budget, and counted with the hits' below.
