@@ -81,16 +81,20 @@ TEST(PointShares, WalkAboutEqualCellsWhereEqualCountsOfPointsDoNot) {
   const ndtom::MapOptions o = mapOptions();
   const ndtom::GridGeometry geometry(o.resolution);
   ndtom::WorkerPool pool;
-  // Half the rays 2 m long, half 25 m: equal counts give one process 12 times the other's.
+  // Half the rays 2 m long, half 25 m: equal counts give one process 12 times the other's
+  // walk. Half 20 m, half 300 m: walked only to max_range (30 m), which the shares must know.
   const Eigen::Vector3d origin(0.1, 0.1, 0.1);
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < 4000; ++i) {
-    const double angle = 0.001 * i, range = i < 2000 ? 2.0 : 25.0;
-    points.push_back(origin + range * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.1));
-  }
   const ndtom::ScanContext scan{geometry, o.scan, origin, pool};
-  EXPECT_GT(imbalance(points, origin, {{0, 2000}, {2000, 4000}}), 1.8);
-  EXPECT_LT(imbalance(points, origin, shares(scan, points, 2)), 1.1);
+  for (const auto& [near, far] : {std::pair{2.0, 25.0}, std::pair{20.0, 300.0}}) {
+    SCOPED_TRACE(testing::Message() << "points at " << near << " and " << far << " m");
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < 4000; ++i) {
+      const double angle = 0.001 * i, range = i < 2000 ? near : far;
+      points.push_back(origin + range * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.1));
+    }
+    if (near == 2.0) EXPECT_GT(imbalance(points, origin, {{0, 2000}, {2000, 4000}}), 1.8);
+    EXPECT_LT(imbalance(points, origin, shares(scan, points, 2)), 1.1);
+  }
 
   // Real scans (a lidar's fans, near and far).
   for (const auto& s : ndtom::testing::lidarScansInWorld(2)) {
