@@ -71,7 +71,9 @@ TEST(PointShares, CoverThePointsInOrder) {
       EXPECT_EQ(parts.back().second, n);
       for (size_t r = 0; r < ranks; ++r) {
         EXPECT_LE(parts[r].first, parts[r].second);
-        if (r > 0) EXPECT_EQ(parts[r].first, parts[r - 1].second);
+        if (r > 0) {
+          EXPECT_EQ(parts[r].first, parts[r - 1].second);
+        }
       }
     }
   }
@@ -92,7 +94,9 @@ TEST(PointShares, WalkAboutEqualCellsWhereEqualCountsOfPointsDoNot) {
       const double angle = 0.001 * i, range = i < 2000 ? near : far;
       points.push_back(origin + range * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.1));
     }
-    if (near == 2.0) EXPECT_GT(imbalance(points, origin, {{0, 2000}, {2000, 4000}}), 1.8);
+    if (near == 2.0) {
+      EXPECT_GT(imbalance(points, origin, {{0, 2000}, {2000, 4000}}), 1.8);
+    }
     EXPECT_LT(imbalance(points, origin, shares(scan, points, 2)), 1.1);
   }
 
