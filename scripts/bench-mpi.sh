@@ -5,11 +5,13 @@
 # runs; (2) ndtom-rank-model for either way of sharing the rays: each process's CPU time for
 # 1-64 processes (balance and compute efficiency beyond this machine's cores; sharing the
 # rays, the bytes each sends). Writes doc/benchmarks/mpi-wall.csv and mpi-ranks.csv.
-# Usage: scripts/bench-mpi.sh [RUNS (3)] [RANK_TILES (4)] [RESOLUTION (0.2)] [MAX_RANGE (30)]
+# Usage: scripts/bench-mpi.sh [RUNS (3)] [RANK_TILES (each --ray-share's default: "")] [RESOLUTION (0.2)] [MAX_RANGE (30)]
 # BUILD=dir to use an existing Release build instead of build-bench.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-runs=${1:-3} tiles=${2:-4} resolution=${3:-0.2} max_range=${4:-30}
+runs=${1:-3} tiles=${2:-} resolution=${3:-0.2} max_range=${4:-30}
+tile_option=()
+[[ -n $tiles ]] && tile_option=(--rank-tiles "$tiles")
 data="${NDTOM_SHARED_DATASETS:-../shared/datasets}/balm-realworld"
 [[ -d "$data" ]] || { echo "bench-mpi: no lidar data at $data" >&2; exit 1; }
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
@@ -38,7 +40,7 @@ for run in $(seq "$runs"); do
       for share in tiles rays; do
         [[ $np == 1 && ( $input == broadcast || $share == rays ) ]] && continue
         mpirun --oversubscribe -np "$np" "$bin/ndtom-map-mpi/ndtom-map-mpi" "$data" -o "$work/np$np" \
-          "${options[@]}" --scan-input "$input" --rank-tiles "$tiles" --ray-share "$share"
+          "${options[@]}" --scan-input "$input" "${tile_option[@]}" --ray-share "$share"
         cmp -s "$work/serial.ndtom" "$work/np$np.ndtom" || { echo "bench-mpi: np $np map differs" >&2; exit 1; }
         read -r loop total < <(seconds "$work/np$np.mpi.json")
         echo "$run,ndtom-map-mpi,$np,$input,$share,$loop,$total" >>"$wall"
@@ -49,11 +51,11 @@ done
 column -s, -t <"$wall"
 
 ranks=doc/benchmarks/mpi-ranks.csv
-echo "# commit $commit; rank tiles $tiles; CPU seconds of each process's insertions" >"$ranks"
+echo "# commit $commit; rank tiles ${tiles:-default}; CPU seconds of each process's insertions" >"$ranks"
 for share in tiles rays; do
   echo "ray share: $share"
   "$bin/ndtom-rank-model/ndtom-rank-model" "$data" -o "$work/model" --resolution "$resolution" \
-    --max-range "$max_range" --rank-tiles "$tiles" --ray-share "$share" \
+    --max-range "$max_range" "${tile_option[@]}" --ray-share "$share" \
     --ranks 1,2,4,8,16,32,64 --quiet
   if [[ $share == tiles ]]; then
     sed 's/^/ray_share,/;2,$s/^ray_share,/tiles,/' "$work/model.rank-model.csv" >>"$ranks"

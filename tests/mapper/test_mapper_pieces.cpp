@@ -8,6 +8,7 @@
 #include "ndtom_apps/input_format.h"
 #include "ndtom_apps/insertion_settings.h"
 #include "ndtom_apps/json_writer.h"
+#include "ndtom_apps/mpi_options.h"
 #include "ndtom_apps/run_program.h"
 #include "ndtom_apps/scan_source.h"
 #include "ndtom_apps/trajectory_poses.h"
@@ -206,4 +207,19 @@ TEST(JsonWriter, NestedObjectsAndQuoting) {
   EXPECT_EQ(j.str(),
             "{\n  \"path\": \"a \\\"b\\\"\\\\c\\u000a\",\n  \"map\": {\n    \"cells\": 12,\n"
             "    \"inf\": null\n  },\n  \"passes\": [\n    {\n      \"ok\": true\n    }\n  ]\n}\n");
+}
+
+TEST(MpiOptions, RankTilesDefaultFollowsTheRayShareAndAGivenValueWins) {
+  using ndtom::mapper::RayShare;
+  const auto parse = [](std::vector<const char*> args) {
+    args.insert(args.begin(), {"ndtom-map-mpi", "in", "-o", "out"});
+    return ndtom::mapper::parseMpiOptions(int(args.size()), const_cast<char**>(args.data()));
+  };
+  const auto rays = parse({});
+  EXPECT_EQ(rays.ray_share, RayShare::Rays);
+  EXPECT_EQ(rays.rank_tiles, ndtom::mapper::defaultRankTiles(RayShare::Rays));
+  EXPECT_EQ(parse({"--ray-share", "tiles"}).rank_tiles, 4);
+  EXPECT_EQ(parse({"--ray-share", "rays"}).rank_tiles, 1);
+  EXPECT_EQ(parse({"--rank-tiles", "3", "--ray-share", "tiles"}).rank_tiles, 3);
+  EXPECT_EQ(parse({"--ray-share", "rays", "--rank-tiles", "4"}).rank_tiles, 4);
 }

@@ -9,6 +9,7 @@ namespace ndtom::mapper {
 
 MpiOptions parseMpiOptions(int argc, char** argv) {
   MpiOptions o;
+  bool rank_tiles_given = false;
   std::vector<char*> rest{argv[0]};
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -36,10 +37,12 @@ MpiOptions parseMpiOptions(int argc, char** argv) {
       }
     } else if (arg == "--rank-tiles") {
       o.rank_tiles = int(apps::parseInteger("--rank-tiles", value(), 1, ndtom::kMaxTileBlocks));
+      rank_tiles_given = true;
     } else {
       rest.push_back(argv[i]);
     }
   }
+  if (!rank_tiles_given) o.rank_tiles = defaultRankTiles(o.ray_share);
   o.map = parseMapperOptions(int(rest.size()), rest.data());
   if (o.map.passes != 1) throw apps::UsageError("--passes: ndtom-map-mpi makes one pass");
   if (o.map.resident_budget_mb > 0)  // each process holds only its tiles already
@@ -58,7 +61,8 @@ std::string mpiHelpText() {
          "\n"
          "  --scan-input each|broadcast  each process reads the input itself (a shared file\n"
          "                            system; the default), or process 0 reads and broadcasts\n"
-         "  --rank-tiles B            tiles of B blocks (8 cells) a side are dealt out (Default: 4)\n"
+         "  --rank-tiles B            tiles of B blocks (8 cells) a side are dealt out\n"
+         "                            (Default: 1 with --ray-share rays, 4 with tiles)\n"
          "  --ray-share rays|tiles    each process walks a share of the rays whole and sends\n"
          "                            the counts in other tiles to their owners (the default:\n"
          "                            less work, a message per scan), or walks every ray's\n"

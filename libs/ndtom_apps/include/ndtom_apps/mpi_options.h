@@ -21,8 +21,14 @@ struct MpiOptions {
   MapperOptions map;  ///< every ndtom-map option
   ScanInput scan_input = ScanInput::EachReads;
   RayShare ray_share = RayShare::Rays;  ///< less work per process (doc/scale.md)
-  int rank_tiles = 4;  ///< edge, in blocks, of the tiles dealt out to the processes
+  int rank_tiles = 1;  ///< edge, in blocks, of the tiles dealt out to the processes
 };
+
+/// --rank-tiles when not given. Sharing the rays, small tiles deal the busy tiles along the
+/// trajectory out evenly at the cost of a hash per tile a hit or a counted block is in; walking
+/// every ray's stretches through a process's own tiles, each tile a ray crosses costs a
+/// stretch. Measured in doc/scale.md (rank model, 2 and 16 processes).
+inline int defaultRankTiles(RayShare share) { return share == RayShare::Rays ? 1 : 4; }
 
 /// Takes --scan-input and --rank-tiles, hands the rest to parseMapperOptions. Throws
 /// apps::UsageError with a one-line message.
