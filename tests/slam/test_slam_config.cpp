@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <sstream>
 
 #include "mapper/mapper_run.h"
+#include "mrpt/sena_log.h"
 
 using namespace mapper_test;
 
@@ -120,4 +122,90 @@ TEST(SlamConfig, TheShippedConfigTracksMrptsSenaLoop) {
   EXPECT_EQ(jsonNumber(json, "scans"), 225);
   EXPECT_EQ(jsonNumber(json, "lost"), 0);
   EXPECT_EQ(jsonNumber(json, "resolution"), 0.2);
+}
+
+namespace {
+
+struct Stamped {
+  long ms;  // the scan's time stamp, as MRPT's reference poses are keyed
+  double x, y;
+};
+
+// A TUM trajectory file's positions, in its order (one line a scan).
+std::vector<Stamped> readTum(const std::string& path) {
+  std::vector<Stamped> poses;
+  std::istringstream lines(readText(path));
+  for (std::string line; std::getline(lines, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    double t = 0, x = 0, y = 0;
+    std::istringstream(line) >> t >> x >> y;
+    poses.push_back({std::lround(t * 1e3), x, y});
+  }
+  return poses;
+}
+
+// Mean distance to MRPT's reference poses of the scans it has (matched by time stamp).
+double meanReferenceError(const std::vector<Stamped>& poses,
+                          const std::map<long, mrpt::poses::CPose3D>& reference) {
+  double sum = 0;
+  size_t compared = 0;
+  for (const Stamped& p : poses) {
+    const auto it = reference.find(p.ms);
+    if (it == reference.end()) continue;
+    sum += std::hypot(p.x - it->second.x(), p.y - it->second.y());
+    ++compared;
+  }
+  EXPECT_GT(compared, 50u);
+  return sum / double(compared);
+}
+
+}  // namespace
+
+// With --loop-closure on, the SENA loop closes: between scans far apart in the log that the
+// odometry-only run puts within a submap of each other, and the optimized trajectory is no
+// further from MRPT's reference poses than odometry alone.
+TEST(SlamConfig, TheShippedConfigClosesMrptsSenaLoop) {
+  if (!fs::exists(kSenaRawlog)) GTEST_SKIP() << "no SENA log (Debian's mrpt-common)";
+  const auto reference = ndtom::testing::senaReferencePoses();
+  ASSERT_GT(reference.size(), 50u);
+  TempDir dir;
+  const auto slam = [&](const std::string& loop_closure) {
+    const std::string prefix = (dir / loop_closure).string();
+    const ProgramRun run = runExecutable(
+        kSlam, quoted(kSenaRawlog) + " -o " + quoted(prefix) + " --no-pictures -q --config " +
+                   quoted(std::string(NDTOM_SOURCE_DIR) + "/share/mrpt/ndtom-slam.ini") +
+                   " --loop-closure " + loop_closure,
+        dir);
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    return prefix;
+  };
+  const std::string on = slam("on"), off = slam("off");
+  const std::string json = readText(on + ".summary.json");
+  EXPECT_GE(jsonNumber(json, "accepted", "loop_closure"), 1);
+  const std::vector<Stamped> odometry = readTum(off + ".tum"), optimized = readTum(on + ".tum");
+  ASSERT_EQ(odometry.size(), 225u);
+  ASSERT_EQ(optimized.size(), 225u);
+  size_t loops = 0;
+  for (size_t at = json.find("\"older_scan\":"); at != std::string::npos;
+       at = json.find("\"older_scan\":", at + 1)) {
+    const size_t end = json.find('}', at);
+    if (json.substr(at, end - at).find("\"accepted\": true") == std::string::npos) continue;
+    const auto older = size_t(jsonNumber(json.substr(at), "older_scan"));
+    const auto newer = size_t(jsonNumber(json.substr(at), "newer_scan"));
+    ASSERT_LT(newer, odometry.size());
+    SCOPED_TRACE(testing::Message() << "loop between scans " << older << " and " << newer);
+    EXPECT_GE(newer - older, 100u);  // round the loop, not the last few metres
+    // The scan is registered to the older keyframe's submap, which reaches a keyframe's
+    // length (10 m by default) past that keyframe's first scan, `older`.
+    EXPECT_LT(std::hypot(odometry[newer].x - odometry[older].x,
+                         odometry[newer].y - odometry[older].y),
+              10.0);
+    ++loops;
+  }
+  EXPECT_GE(loops, 1u);
+  const double with_loops = meanReferenceError(optimized, reference);
+  const double without = meanReferenceError(odometry, reference);
+  std::printf("reference error: %.3f m with loop closure, %.3f m without\n", with_loops, without);
+  EXPECT_LT(with_loops, without + 0.02);
+  EXPECT_LT(with_loops, 0.2);
 }
