@@ -311,6 +311,7 @@ TEST(SharedRays, RefusesAMalformedMessageOfHitsAndKeepsItsMap) {
                  head(one_more),                                       // more points than the scan
                  claims_two,                                           // fewer hits than it says
                  head(half, {theirs}),                                 // a hit of another's tile
+                 head(half, {mine, theirs}),                           // ... after one of its own
                  head(half, {Eigen::Vector3d(nan, 0, 0)}),             // not a point
                  head(half, {Eigen::Vector3d(1e12, 0, 0)}),            // outside the grid
                  head(half) + Words{0, 0, 0, 600}},                    // then bad counts
