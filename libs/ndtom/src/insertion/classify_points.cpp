@@ -60,6 +60,14 @@ inline PointKind classify(const Eigen::Vector3d& p, const Limits& limits, Eigen:
   return PointKind::kTruncated;
 }
 
+// A thread's chunk of the points: whole pieces of kRayPieces (their lengths are per piece).
+void setChunks(size_t n, size_t threads, ClassifiedPoints& out) {
+  constexpr size_t kPieces = ClassifiedPoints::kRayPieces;
+  out.chunk_starts.resize(threads + 1);
+  for (size_t t = 0; t <= threads; ++t)
+    out.chunk_starts[t] = partRange(n, kPieces, partRange(kPieces, threads, t).first).first;
+}
+
 }  // namespace
 
 void classifyPoints(const ScanContext& scan, const Eigen::Vector3d* points, size_t n,
@@ -75,9 +83,7 @@ void classifyPoints(const ScanContext& scan, const Eigen::Vector3d* points, size
   };
   const size_t threads = scan.threadsFor(n, kMinPointsPerThread);
   std::vector<Part> parts(threads);
-  out.chunk_starts.resize(threads + 1);
-  for (size_t t = 0; t <= threads; ++t)
-    out.chunk_starts[t] = partRange(n, kPieces, partRange(kPieces, threads, t).first).first;
+  setChunks(n, threads, out);
   const Limits limits{scan.geometry, scan.origin, scan.geometry.invResolution(),
                       scan.options.min_range, scan.options.max_range,
                       kMaxRayCells * scan.geometry.resolution()};
@@ -111,7 +117,6 @@ void classifyPoints(const ScanContext& scan, const Eigen::Vector3d* points, size
 
 void listHits(const ScanContext& scan, const std::vector<std::vector<Eigen::Vector3d>>& parts,
               ClassifiedPoints& out) {
-  constexpr size_t kPieces = ClassifiedPoints::kRayPieces;
   out.ends.clear();
   for (const std::vector<Eigen::Vector3d>& part : parts)
     out.ends.insert(out.ends.end(), part.begin(), part.end());
@@ -125,12 +130,8 @@ void listHits(const ScanContext& scan, const std::vector<std::vector<Eigen::Vect
     widen(out.ends_lo, out.ends_hi, out.end_cells[i]);
   }
   // Chunks as classification's, every point used: sorting's threads take them.
-  const size_t threads = scan.threadsFor(n, kMinPointsPerThread);
-  out.chunk_starts.resize(threads + 1);
-  out.used_before.resize(threads + 1);
-  for (size_t t = 0; t <= threads; ++t)
-    out.used_before[t] = out.chunk_starts[t] =
-        partRange(n, kPieces, partRange(kPieces, threads, t).first).first;
+  setChunks(n, scan.threadsFor(n, kMinPointsPerThread), out);
+  out.used_before = out.chunk_starts;
   out.piece_lengths.fill(0.0);  // no rays: the hits' rays were walked where they were classified
   out.used = n;
 }

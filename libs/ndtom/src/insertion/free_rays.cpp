@@ -191,12 +191,7 @@ void tradeCounts(const ScanContext& scan, const ClassifiedPoints& points, bool s
         appendCountBlock(b, table.block(i).count.data(), out.outgoing[size_t(owner)]);
     }
   }
-  --out.exchanges_left;
-  if (!exchange.exchange(false, out.outgoing, out.incoming)) {
-    out.exchanges_left = 0;  // every process stops here
-    throw std::runtime_error(
-        "insertScanPart: another process of the distributed build failed on this scan");
-  }
+  exchangeOrStop(exchange, out, out.outgoing, out.incoming);
   if (out.tables.size() < threads + 1) out.tables.resize(threads + 1);
   ScanCounts& received = out.tables[threads];
   received.setBlockLimit(nullptr);
@@ -248,6 +243,17 @@ void traceFreeRays(const ScanContext& scan, const ScanPart* part, const Classifi
     tradeCounts(scan, points, rays.per_point, part->owned, *part->exchange, threads, out, report);
   for (size_t t = 0; t < threads; ++t)
     out.tables[t].keepBlocksWhere([&](const CellIndex& b) { return part->owned.ownsBlock(b); });
+}
+
+void exchangeOrStop(CountExchange& exchange, FreeCounts& counts,
+                    const std::vector<std::vector<uint32_t>>& outgoing,
+                    std::vector<std::vector<uint32_t>>& incoming) {
+  --counts.exchanges_left;
+  if (!exchange.exchange(false, outgoing, incoming)) {
+    counts.exchanges_left = 0;  // every process stops here
+    throw std::runtime_error(
+        "insertScanPart: another process of the distributed build failed on this scan");
+  }
 }
 
 }  // namespace ndtom

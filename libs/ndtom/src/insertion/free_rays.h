@@ -50,4 +50,10 @@ void traceFreeRays(const ScanContext& scan, const ScanPart* part, const Classifi
                    const EndGroups& groups, std::atomic<int64_t>& blocks_left, FreeCounts& out,
                    InsertionReport& report);
 
+/// One of this scan's exchanges (count_exchange.h), counted off `counts.exchanges_left`.
+/// Throws std::runtime_error, leaving no exchange to take part in, if any process failed.
+void exchangeOrStop(CountExchange& exchange, FreeCounts& counts,
+                    const std::vector<std::vector<uint32_t>>& outgoing,
+                    std::vector<std::vector<uint32_t>>& incoming);
+
 }  // namespace ndtom

@@ -125,14 +125,8 @@ void ScanUpdater::insertSharingPoints(const ScanContext& scan,
 }
 
 void ScanUpdater::agreeWithOthers() {
-  FreeCounts& counts = s_.free_counts;
-  --counts.exchanges_left;
   std::vector<std::vector<uint32_t>> nothing(size_t(part_->owned.ranks)), ignored;
-  if (!part_->exchange->exchange(false, nothing, ignored)) {
-    counts.exchanges_left = 0;  // every process stops here
-    throw std::runtime_error(
-        "insertScanPart: another process of the distributed build failed on this scan");
-  }
+  exchangeOrStop(*part_->exchange, s_.free_counts, nothing, ignored);
 }
 
 void ScanUpdater::recordStatsChanges() noexcept {
