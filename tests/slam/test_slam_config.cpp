@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <sstream>
 
 #include "mapper/mapper_run.h"
+#include "ndtom_io/pose_file.h"
 #include "mrpt/sena_log.h"
 
 using namespace mapper_test;
@@ -126,33 +126,16 @@ TEST(SlamConfig, TheShippedConfigTracksMrptsSenaLoop) {
 
 namespace {
 
-struct Stamped {
-  long ms;  // the scan's time stamp, as MRPT's reference poses are keyed
-  double x, y;
-};
-
-// A TUM trajectory file's positions, in its order (one line a scan).
-std::vector<Stamped> readTum(const std::string& path) {
-  std::vector<Stamped> poses;
-  std::istringstream lines(readText(path));
-  for (std::string line; std::getline(lines, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    double t = 0, x = 0, y = 0;
-    std::istringstream(line) >> t >> x >> y;
-    poses.push_back({std::lround(t * 1e3), x, y});
-  }
-  return poses;
-}
-
 // Mean distance to MRPT's reference poses of the scans it has (matched by time stamp).
-double meanReferenceError(const std::vector<Stamped>& poses,
+double meanReferenceError(const std::vector<ndtom::io::StampedPose>& poses,
                           const std::map<long, mrpt::poses::CPose3D>& reference) {
   double sum = 0;
   size_t compared = 0;
-  for (const Stamped& p : poses) {
-    const auto it = reference.find(p.ms);
+  for (const ndtom::io::StampedPose& p : poses) {
+    const auto it = reference.find(std::lround(p.time * 1e3));  // keyed by time stamp in ms
     if (it == reference.end()) continue;
-    sum += std::hypot(p.x - it->second.x(), p.y - it->second.y());
+    const Eigen::Vector3d& t = p.pose.translation();
+    sum += std::hypot(t.x() - it->second.x(), t.y() - it->second.y());
     ++compared;
   }
   EXPECT_GT(compared, 50u);
@@ -182,7 +165,9 @@ TEST(SlamConfig, TheShippedConfigClosesMrptsSenaLoop) {
   const std::string on = slam("on"), off = slam("off");
   const std::string json = readText(on + ".summary.json");
   EXPECT_GE(jsonNumber(json, "accepted", "loop_closure"), 1);
-  const std::vector<Stamped> odometry = readTum(off + ".tum"), optimized = readTum(on + ".tum");
+  // Their trajectories, one line a scan.
+  const auto odometry = ndtom::io::readPoseFile(off + ".tum", ndtom::io::PoseFormat::Tum);
+  const auto optimized = ndtom::io::readPoseFile(on + ".tum", ndtom::io::PoseFormat::Tum);
   ASSERT_EQ(odometry.size(), 225u);
   ASSERT_EQ(optimized.size(), 225u);
   size_t loops = 0;
@@ -197,9 +182,9 @@ TEST(SlamConfig, TheShippedConfigClosesMrptsSenaLoop) {
     EXPECT_GE(newer - older, 100u);  // round the loop, not the last few metres
     // The scan is registered to the older keyframe's submap, which reaches a keyframe's
     // length (10 m by default) past that keyframe's first scan, `older`.
-    EXPECT_LT(std::hypot(odometry[newer].x - odometry[older].x,
-                         odometry[newer].y - odometry[older].y),
-              10.0);
+    const Eigen::Vector3d apart =
+        odometry[newer].pose.translation() - odometry[older].pose.translation();
+    EXPECT_LT(std::hypot(apart.x(), apart.y()), 10.0);
     ++loops;
   }
   EXPECT_GE(loops, 1u);
