@@ -1,6 +1,7 @@
 #include "ndtom/map/rigid_move.h"
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <unordered_map>
 #include <utility>
@@ -35,6 +36,18 @@ NdtMap movedMap(const NdtMap& map, const Eigen::Isometry3d& motion) {
     return grid.cellOf(p);
   };
 
+  // A new cell's centre comes from at most √3/2 cells away: it lies among the 27 cells around
+  // the image of an old centre. Where each of those falls when moved back, relative to the
+  // moved-back image centre, in cells: the same offsets for every cell.
+  std::array<Eigen::Vector3d, 27> back_offsets;
+  std::array<CellIndex, 27> offsets;
+  for (int i = 0; i < 27; ++i) {
+    offsets[size_t(i)] = {i % 3 - 1, i / 3 % 3 - 1, i / 9 - 1};
+    const Eigen::Vector3d d(offsets[size_t(i)].x, offsets[size_t(i)].y, offsets[size_t(i)].z);
+    back_offsets[size_t(i)] = rotation.transpose() * d;
+  }
+  const double inv_r = 1.0 / map.options().resolution;
+
   std::vector<std::pair<CellIndex, float>> occupancy;
   occupancy.reserve(map.numCells() + map.numCells() / 4);
   std::unordered_map<CellIndex, MovedStats, CellIndexHash> moved_stats;
@@ -42,17 +55,18 @@ NdtMap movedMap(const NdtMap& map, const Eigen::Isometry3d& motion) {
   // does not depend on the hash table's history (exact, not associative in floating point).
   map.forEachCellOrdered([&](const CellView& c) {
     const Eigen::Vector3d centre = grid.cellCenter(c.index);
-    // A new cell's centre comes from at most √3/2 cells away: it lies among the 27 cells
-    // around the image of this centre. Each new cell is taken by the one old cell holding its
-    // moved-back centre, so none is listed twice.
     const CellIndex image = movedCell(motion * centre);
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const CellIndex t{image.x + dx, image.y + dy, image.z + dz};
-          if (isSupportedCell(t) && grid.cellOf(back * grid.cellCenter(t)) == c.index)
-            occupancy.emplace_back(t, c.logodds);
-        }
+    // Each new cell is taken by the one old cell holding its moved-back centre, so none is
+    // listed twice: here those of the 27 whose centre comes back into this cell.
+    const Eigen::Vector3d base = (back * grid.cellCenter(image) - centre) * inv_r;
+    for (size_t i = 0; i < 27; ++i) {
+      const Eigen::Vector3d u = base + back_offsets[i];
+      if (u.x() < -0.5 || u.x() >= 0.5 || u.y() < -0.5 || u.y() >= 0.5 || u.z() < -0.5 ||
+          u.z() >= 0.5)
+        continue;
+      const CellIndex t{image.x + offsets[i].x, image.y + offsets[i].y, image.z + offsets[i].z};
+      if (isSupportedCell(t)) occupancy.emplace_back(t, c.logodds);
+    }
     if (!c.stats) return;
     const Eigen::Vector3d mean = motion * (centre + c.stats->relative_mean);
     const CellIndex target = movedCell(mean);
@@ -72,20 +86,18 @@ NdtMap movedMap(const NdtMap& map, const Eigen::Isometry3d& motion) {
 
   NdtMap out(map.options());
   const CellStats none;
-  for (const auto& [index, logodds] : occupancy) {
-    const auto it = moved_stats.find(index);
-    if (it == moved_stats.end()) {
-      out.setCell(index, logodds, none);
-      continue;
-    }
-    out.setCell(index, std::max(logodds, it->second.logodds), it->second.stats);
-    moved_stats.erase(it);
-  }
-  // Statistics whose mean left the cells resampled from known space (at its border).
-  std::vector<std::pair<CellIndex, MovedStats>> rest(moved_stats.begin(), moved_stats.end());
-  std::sort(rest.begin(), rest.end(),
+  for (const auto& [index, logodds] : occupancy) out.setCell(index, logodds, none);
+  // Sorted: the cells' statistics set in an order independent of the hash table's.
+  std::vector<std::pair<CellIndex, MovedStats>> stats(moved_stats.begin(), moved_stats.end());
+  std::sort(stats.begin(), stats.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [index, moved] : rest) out.setCell(index, moved.logodds, moved.stats);
+  for (const auto& [index, moved] : stats) {
+    // Where none of the old cells is under its centre (at known space's border), the
+    // statistics bring their own log-odds.
+    const auto resampled = out.cell(index);
+    const float logodds = resampled ? std::max(resampled->logodds, moved.logodds) : moved.logodds;
+    out.setCell(index, logodds, moved.stats);
+  }
   out.shrinkToFit();
   return out;
 }
