@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 
+#include "ndtom/map/rigid_move.h"
 #include "ndtom/online/online_mapper.h"
 #include "ndtom_eval/map_similarity.h"
 #include "ndtom_eval/trajectory_error.h"
@@ -217,4 +218,43 @@ TEST(OnlineMapper, BadOptionsNameTheOption) {
       EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
     }
   }
+}
+
+// A loop closure corrects the live map: the map moved rigidly (movedMap) and handed back with
+// the same frame change; tracking goes on in the moved frame, where the poses are the
+// reference moved likewise. Without the frame change the last pose stays behind and the
+// scans after it are not placed where the moved map has them.
+TEST(OnlineMapper, TrackingGoesOnInAMapMovedWithItsFrame) {
+  const Balm& b = balm();
+  Isometry3d change = Isometry3d::Identity();
+  change.translate(Vector3d(25.0, -10.0, 0.3));
+  change.rotate(Eigen::AngleAxisd(1.6, Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(0.02, Vector3d::UnitX()));
+  for (const bool move_frame : {true, false}) {
+    OnlineMapper mapper(options());
+    for (int i = 0; i < 5; ++i)
+      mapper.process(b.scans[size_t(i)], Vector3d::Zero(), b.times[size_t(i)]);
+    mapper.replaceMap(movedMap(mapper.map(), change),
+                      move_frame ? change : Isometry3d::Identity());
+    size_t placed_as_moved = 0;
+    for (int i = 5; i < kScans; ++i) {
+      const OnlineStep s = mapper.process(b.scans[size_t(i)], Vector3d::Zero(), b.times[size_t(i)]);
+      const Isometry3d expected = change * b.truth[size_t(i)];
+      const bool near = s.outcome != OnlineOutcome::Lost &&
+                        (s.pose.translation() - expected.translation()).norm() < 0.05 &&
+                        angleDeg(s.pose, expected) < 0.5;
+      if (move_frame) {
+        EXPECT_TRUE(near) << i << ": " << toString(s.outcome) << ", "
+                          << (s.pose.translation() - expected.translation()).norm() << " m off";
+      }
+      placed_as_moved += near;
+    }
+    if (!move_frame) {
+      EXPECT_LT(placed_as_moved, 5u);
+    }
+  }
+  OnlineMapper mapper(options());
+  Isometry3d bad = Isometry3d::Identity();
+  bad.translation().x() = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(mapper.replaceMap(NdtMap(options().map), bad), std::invalid_argument);
 }

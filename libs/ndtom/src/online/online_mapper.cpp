@@ -89,12 +89,15 @@ NdtMap OnlineMapper::takeMap() {
   return out;
 }
 
-void OnlineMapper::replaceMap(NdtMap map) {
+void OnlineMapper::replaceMap(NdtMap map, const Eigen::Isometry3d& frame_change) {
   if (map.options().resolution != options_.map.resolution)
     throw std::invalid_argument("OnlineMapper::replaceMap: resolution " +
                                 std::to_string(map.options().resolution) + " m, the mapper's is " +
                                 std::to_string(options_.map.resolution) + " m");
+  if (!frame_change.matrix().allFinite())
+    throw std::invalid_argument("OnlineMapper::replaceMap: the frame change is not finite");
   map_ = std::move(map);
+  tracking_->motion.moveFrame(frame_change);
   tracking_->target = online::RegistrationTarget{};
   tracking_->registering = map_.numGaussians() > 0;
 }

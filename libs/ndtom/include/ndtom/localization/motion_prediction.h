@@ -18,6 +18,9 @@ class ConstantVelocity {
   void update(const Eigen::Isometry3d& pose, double time);
   /// The last pose given to update() (the initial pose before that).
   const Eigen::Isometry3d& lastPose() const { return last_; }
+  /// The poses now given in a frame moved by `change` (old pose p is change · p): the last
+  /// pose moves, the motion between scans (relative) stays.
+  void moveFrame(const Eigen::Isometry3d& change) { last_ = change * last_; }
 
  private:
   Eigen::Isometry3d last_;

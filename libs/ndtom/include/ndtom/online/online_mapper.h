@@ -114,7 +114,10 @@ class OnlineMapper {
   /// Replaces the map scans are registered against and inserted into (same resolution, else
   /// std::invalid_argument); the registration target is cut again from it. For a window of
   /// keyframe submaps, so that odometry never registers against its own drifted past.
-  void replaceMap(NdtMap map);
+  /// `frame_change` is where the new map's frame is (a pose p of the old frame is
+  /// frame_change · p in the new one): the last pose moves with it, the motion since the scan
+  /// before stays (a loop closure correcting the live map).
+  void replaceMap(NdtMap map, const Eigen::Isometry3d& frame_change = Eigen::Isometry3d::Identity());
   /// The map, moved out: the mapper is empty after this.
   NdtMap takeMap();
   const OnlineMapperOptions& options() const { return options_; }
