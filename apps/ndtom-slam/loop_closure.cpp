@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "ndtom/map/rigid_move.h"
 #include "ndtom_apps/process_clock.h"
 
 namespace ndtom::slam {
@@ -59,9 +60,23 @@ void LoopClosure::commit(OnlineMapper& mapper, OnlineStep& step,
     ++report_.restarts;
   }
   const bool placed = step.outcome != OnlineOutcome::Lost;
+  std::optional<Eigen::Isometry3d> change;
   if (keyframes_.empty() || restart ||
       (placed && startsKeyframe(options_.keyframes, keyframes_.back().anchor, step.pose)))
-    startKeyframe(mapper, step, points_sensor, restart);
+    change = startKeyframe(mapper, step, points_sensor, restart);
+  if (!change) {
+    finishScan(mapper, step, points_map, origin_map, restart);
+    return;
+  }
+  std::vector<Eigen::Vector3d> moved;  // the scan joins the corrected map
+  moved.reserve(points_map.size());
+  for (const Eigen::Vector3d& p : points_map) moved.push_back(*change * p);
+  finishScan(mapper, step, moved, *change * origin_map, restart);
+}
+
+void LoopClosure::finishScan(OnlineMapper& mapper, OnlineStep& step,
+                             const std::vector<Eigen::Vector3d>& points_map,
+                             const Eigen::Vector3d& origin_map, bool restart) {
   mapper.commit(step, points_map, origin_map);
   scan_keyframe_.push_back(keyframes_.size() - 1);
   scan_odometry_.push_back(step.pose);
@@ -83,34 +98,61 @@ void LoopClosure::commit(OnlineMapper& mapper, OnlineStep& step,
         covarianceInPoseFrame(step.registration.covariance, k.anchor.inverse() * step.pose);
 }
 
-void LoopClosure::startKeyframe(OnlineMapper& mapper, const OnlineStep& step,
-                                const std::vector<Eigen::Vector3d>& points_sensor, bool restart) {
+std::optional<Eigen::Isometry3d> LoopClosure::startKeyframe(
+    OnlineMapper& mapper, OnlineStep& step, const std::vector<Eigen::Vector3d>& points_sensor,
+    bool restart) {
   const size_t id = keyframes_.size();
-  if (id > 0) checkLoops(id - 1);  // its submap is complete now
+  // Odometry's motion from the last keyframe, in the frame it was measured in.
+  const Eigen::Isometry3d relative =
+      id > 0 ? keyframes_[id - 1].anchor.inverse() * step.pose : Eigen::Isometry3d::Identity();
+  // Its submap is complete now; a loop closed moves the live map where the graph puts it.
+  std::optional<Eigen::Isometry3d> change;
+  if (id > 0 && checkLoops(id - 1)) {
+    change = moveWindow(id);
+    step.pose = *change * step.pose;
+    step.prediction = *change * step.prediction;
+    live_from_odometry_ = *change * live_from_odometry_;
+  }
   Keyframe k(map_options_);
   k.first_scan = scan_odometry_.size();
   k.anchor = step.pose;
   k.path_length = path_;
   k.anchor_scan = points_sensor;
   keyframes_.push_back(std::move(k));
-  report_.anchors_odometry.push_back(step.pose);
+  report_.anchors_odometry.push_back(odometryPose(step.pose));
   report_.keyframe_first_scan.push_back(keyframes_.back().first_scan);
-  if (id == 0) {
-    graph_.addNode(step.pose);
-    return;
-  }
-  const Keyframe& previous = keyframes_[id - 1];
-  graph_.addNode(graph_.pose(id - 1) * previous.anchor.inverse() * step.pose);
-  addOdometryEdge(id, restart);
+  // The graph puts the last keyframe where its anchor is (moveWindow keeps it so).
+  graph_.addNode(step.pose);
+  if (id == 0) return change;
+  addOdometryEdge(id, relative, restart);
   const auto start = std::chrono::steady_clock::now();
-  mapper.replaceMap(window());
+  mapper.replaceMap(window(), change.value_or(Eigen::Isometry3d::Identity()));
   if (id >= options_.window) coarsen(keyframes_[id - options_.window]);  // left the window
   report_.window_seconds += apps::secondsSince(start);
+  return change;
 }
 
-void LoopClosure::addOdometryEdge(size_t newer, bool restart) {
-  const Eigen::Isometry3d relative =
-      keyframes_[newer - 1].anchor.inverse() * keyframes_[newer].anchor;
+// The finished keyframes of the next window (their submaps, anchors and scans' poses) moved
+// by where the graph now puts the newest of them: the live map, and odometry, go on in the
+// graph's frame. One motion for all, so the window stays as odometry made it: moved each to
+// its own node, its submaps would meet at a kink where the graph spread the loop's error.
+Eigen::Isometry3d LoopClosure::moveWindow(size_t id) {
+  const auto start = std::chrono::steady_clock::now();
+  const Eigen::Isometry3d change = graph_.pose(id - 1) * keyframes_[id - 1].anchor.inverse();
+  const size_t begin = id >= options_.window - 1 ? id - (options_.window - 1) : 0;
+  for (size_t i = begin; i < id; ++i) {
+    Keyframe& k = keyframes_[i];
+    k.submap = movedMap(k.submap, change);
+    k.anchor = change * k.anchor;
+    for (size_t s = k.first_scan; s < scan_odometry_.size() && scan_keyframe_[s] == i; ++s)
+      scan_odometry_[s] = change * scan_odometry_[s];
+  }
+  ++report_.live_corrections;
+  report_.correction_seconds += apps::secondsSince(start);
+  return change;
+}
+
+void LoopClosure::addOdometryEdge(size_t newer, const Eigen::Isometry3d& relative, bool restart) {
   const double d = relative.translation().norm();
   const double deg = options_.odometry_sigma_deg + options_.odometry_sigma_deg_per_m * d;
   const Matrix6d model =
@@ -137,8 +179,8 @@ void LoopClosure::coarsen(Keyframe& k) const {
   if (k.submap.options().resolution == map_options_.resolution) k.submap = k.submap.coarsened(2);
 }
 
-void LoopClosure::checkLoops(size_t current) {
-  if (!keyframes_[current].consistent) return;
+bool LoopClosure::checkLoops(size_t current) {
+  if (!keyframes_[current].consistent) return false;
   std::vector<KeyframePlace> places;
   for (size_t i = 0; i <= current; ++i)
     places.push_back({graph_.pose(i).translation(), keyframes_[i].path_length});
@@ -150,7 +192,7 @@ void LoopClosure::checkLoops(size_t current) {
   for (const size_t older : loopCandidates(options_.search, places, current, reach))
     if (older + options_.window <= current && keyframes_[older].consistent)
       candidates.push_back(older);
-  if (candidates.empty()) return;
+  if (candidates.empty()) return false;
   Keyframe newer = keyframes_[current];
   coarsen(newer);
   bool closed = false;
@@ -162,6 +204,7 @@ void LoopClosure::checkLoops(size_t current) {
     optimize();
     path_at_closure_ = keyframes_[current].path_length;
   }
+  return closed;
 }
 
 bool LoopClosure::checkLoop(size_t older, size_t current, const Keyframe& newer, double radius) {

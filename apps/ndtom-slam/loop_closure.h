@@ -1,10 +1,13 @@
 // Loop closure for ndtom-slam: keyframes with their submaps, loop candidates checked both
 // ways, and the pose graph on MRPT's optimizer. Odometry runs against a live map of the last
-// few keyframes' submaps (its own frame, never corrected), so it never registers against its
-// own drifted past; the graph corrects the keyframes, and each scan follows its keyframe.
+// few keyframes' submaps, so it never registers against its own drifted past; the graph
+// corrects the keyframes, and each scan follows its keyframe. When a loop closes, the live
+// map's submaps are moved (rigidly, movedMap) to where the graph puts the newest and odometry
+// goes on in the graph's frame: the pose known during the run is the corrected one.
 #pragma once
 
 #include <Eigen/Geometry>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,8 +61,10 @@ struct LoopClosureReport {
   std::vector<LoopRecord> loops;  ///< every candidate checked
   size_t accepted = 0, rejected = 0, optimizations = 0;
   size_t restarts = 0;  ///< odometry started again after lost scans
+  size_t live_corrections = 0;  ///< the live map moved to the graph's poses
   GraphOptimization last_optimization;
   double check_seconds = 0, optimize_seconds = 0, window_seconds = 0;
+  double correction_seconds = 0;  ///< moving the live window after loop closures
   std::string graph_text;  ///< MRPT's text format
 };
 
@@ -76,13 +81,24 @@ class LoopClosure {
   void finish();
   /// Scan `index`'s pose after optimization.
   Eigen::Isometry3d optimizedPose(size_t index) const;
+  /// A pose of the live frame (where odometry is now) in odometry's own, uncorrected frame:
+  /// the trajectory had no loop ever closed.
+  Eigen::Isometry3d odometryPose(const Eigen::Isometry3d& live) const {
+    return live_from_odometry_.inverse() * live;
+  }
   const LoopClosureReport& report() const { return report_; }
 
  private:
-  void startKeyframe(OnlineMapper& mapper, const OnlineStep& step,
-                     const std::vector<Eigen::Vector3d>& points_sensor, bool restart);
-  void addOdometryEdge(size_t newer, bool restart);
-  void checkLoops(size_t keyframe);
+  /// Returns the frame change where a loop closed (the live frame moved).
+  std::optional<Eigen::Isometry3d> startKeyframe(OnlineMapper& mapper, OnlineStep& step,
+                                  const std::vector<Eigen::Vector3d>& points_sensor, bool restart);
+  void finishScan(OnlineMapper& mapper, OnlineStep& step,
+                  const std::vector<Eigen::Vector3d>& points_map, const Eigen::Vector3d& origin_map,
+                  bool restart);
+  Eigen::Isometry3d moveWindow(size_t new_keyframe);
+  void addOdometryEdge(size_t newer, const Eigen::Isometry3d& relative, bool restart);
+  /// Whether a loop closed (and the graph was optimized).
+  bool checkLoops(size_t keyframe);
   bool checkLoop(size_t older, size_t current, const Keyframe& newer, double radius);
   void coarsen(Keyframe& keyframe) const;
   void optimize();
@@ -99,6 +115,7 @@ class LoopClosure {
   Matrix6d segment_covariance_ = Matrix6d::Zero();  ///< scans' registrations since the anchor
   double path_ = 0, path_at_closure_ = 0;
   int lost_in_a_row_ = 0;
+  Eigen::Isometry3d live_from_odometry_ = Eigen::Isometry3d::Identity();
   LoopClosureReport report_;
 };
 

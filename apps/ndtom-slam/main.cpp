@@ -23,16 +23,30 @@ namespace apps = ndtom::apps;
 
 namespace {
 
+enum class Trajectory { Final, Live, Odometry };
+
+const Eigen::Isometry3d& poseOf(const SlamScan& s, Trajectory which) {
+  switch (which) {
+    case Trajectory::Live:
+      return s.live;
+    case Trajectory::Odometry:
+      return s.odometry;
+    case Trajectory::Final:
+      break;
+  }
+  return s.step.pose;
+}
+
 // The ATE of the run against --reference (pose i of the file = scan i, or by time stamp).
 std::optional<ndtom::TrajectoryError> referenceError(const SlamOptions& o, const SlamResult& r,
-                                                     bool odometry = false) {
+                                                     Trajectory which = Trajectory::Final) {
   if (o.reference_file.empty()) return std::nullopt;
   const apps::TrajectoryPoses reference(o.reference_file, ndtom::io::PoseFormat::Auto, 0.02);
   std::vector<Eigen::Vector3d> estimate, truth;
   for (size_t i = 0; i < r.scans.size(); ++i) {
     try {
       truth.push_back(reference.poseFor(i, r.scans[i].step.time).translation());
-      estimate.push_back((odometry ? r.scans[i].odometry : r.scans[i].step.pose).translation());
+      estimate.push_back(poseOf(r.scans[i], which).translation());
     } catch (const std::exception&) {  // no reference pose for this scan: left out
     }
   }
@@ -96,7 +110,10 @@ int run(const SlamOptions& o) {
   summary.result = &result;
   summary.map = &map.ndtMap();
   summary.reference_error = referenceError(o, result);
-  if (result.loops) summary.odometry_reference_error = referenceError(o, result, true);
+  if (result.loops) {
+    summary.odometry_reference_error = referenceError(o, result, Trajectory::Odometry);
+    summary.live_reference_error = referenceError(o, result, Trajectory::Live);
+  }
   summary.files = out.files();
   summary.files.push_back({"summary", m.prefix + ".summary.json"});
   summary.peak_rss = apps::peakRssBytes();

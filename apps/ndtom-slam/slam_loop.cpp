@@ -63,12 +63,13 @@ SlamResult runOnline(apps::ScanSource& source, const ndtom::OnlineMapperOptions&
       const std::vector<Eigen::Vector3d> points = apps::pointsInFrame(*scan);
       record.step = mapper.locate(points, scan->time, odometry);
       record.tum_line = tumLine(scan->time, record.step.pose, &record.step.pose);
-      record.odometry = record.step.pose;
       apps::placeAt(*scan, record.step.pose);
       if (closure)
         closure->commit(mapper, record.step, points, scan->points_world, scan->sensor_origin);
       else
         mapper.commit(record.step, scan->points_world, scan->sensor_origin);
+      record.live = record.step.pose;
+      record.odometry = closure ? closure->odometryPose(record.live) : record.live;
     } catch (const ndtom::MemoryBudgetError& e) {
       throw apps::InputError(scan->name + ": " + e.what());
     } catch (const std::invalid_argument& e) {

@@ -18,7 +18,11 @@ struct SlamScan {
   std::string name;
   size_t points = 0;       ///< read
   ndtom::OnlineStep step;  ///< pose as PREFIX.tum holds it (after optimization, with loops)
-  Eigen::Isometry3d odometry = Eigen::Isometry3d::Identity();  ///< before optimization
+  /// Where the run put the scan when it was taken: after the loop closures so far, in the
+  /// graph's frame (odometry goes on in it once a loop closes).
+  Eigen::Isometry3d live = Eigen::Isometry3d::Identity();
+  /// Odometry's own pose, had no loop ever closed (before optimization).
+  Eigen::Isometry3d odometry = Eigen::Isometry3d::Identity();
   std::string tum_line;                                        ///< "t x y z qx qy qz qw"
 };
 

@@ -28,8 +28,8 @@ void writeStep(apps::JsonWriter& j, const SlamScan& s) {
   j.field("judged_fraction", st.registration.judged_fraction);
   j.field("free_fraction", st.registration.free_fraction);
   j.field("weak_directions", st.weak_directions);
-  // Registration's correction, in odometry's frame (before any loop closure moved the pose).
-  j.field("correction_m", (s.odometry.translation() - st.prediction.translation()).norm());
+  // Registration's correction (both in the live frame, which a loop closure may have moved).
+  j.field("correction_m", (s.live.translation() - st.prediction.translation()).norm());
   j.field("sigma_xyz_m",
           std::sqrt(std::max(0.0, st.registration.covariance.topLeftCorner<3, 3>().trace())));
   j.field("target_seconds", st.target_seconds);
@@ -59,6 +59,8 @@ void writeLoops(apps::JsonWriter& j, const LoopClosureReport& l, double rebuild_
   j.field("check_seconds", l.check_seconds);
   j.field("optimize_seconds", l.optimize_seconds);
   j.field("window_seconds", l.window_seconds);
+  j.field("live_corrections", l.live_corrections);
+  j.field("correction_seconds", l.correction_seconds);
   j.field("rebuild_seconds", rebuild_seconds);
   j.beginArray("keyframe_first_scans");
   for (const size_t f : l.keyframe_first_scan) j.field("", f);
@@ -141,6 +143,8 @@ std::string summaryJson(const SlamSummary& s) {
   if (s.reference_error) writeError(j, "reference", s.options->reference_file, *s.reference_error);
   if (s.odometry_reference_error)
     writeError(j, "odometry_reference", s.options->reference_file, *s.odometry_reference_error);
+  if (s.live_reference_error)
+    writeError(j, "live_reference", s.options->reference_file, *s.live_reference_error);
   if (r.loops) writeLoops(j, *r.loops, r.rebuild_seconds);
   j.field("loop_seconds", r.seconds);
   j.field("total_seconds", s.total_seconds);
@@ -196,6 +200,14 @@ std::string summaryText(const SlamSummary& s) {
     std::snprintf(line, sizeof(line),
                   "  odometry before optimization: ATE %.3f m RMSE, %.3f m max, final %.3f m\n",
                   e.rmse, e.max, e.final);
+    t << line;
+  }
+  if (s.live_reference_error) {
+    const ndtom::TrajectoryError& e = *s.live_reference_error;
+    std::snprintf(line, sizeof(line),
+                  "  poses during the run (live map moved at %zu loop closures): ATE %.3f m RMSE, "
+                  "%.3f m max, final %.3f m\n",
+                  r.loops ? r.loops->live_corrections : size_t(0), e.rmse, e.max, e.final);
     t << line;
   }
   std::snprintf(line, sizeof(line), "  %.1f s in all, peak memory %.0f MB; budget %.0f MB (%s)\n",

@@ -27,6 +27,8 @@ struct SlamSummary {
   std::optional<ndtom::TrajectoryError> reference_error;  ///< with --reference
   /// With loop closure and --reference: the odometry's, before optimization.
   std::optional<ndtom::TrajectoryError> odometry_reference_error;
+  /// With loop closure and --reference: the poses as the run knew them when each scan came.
+  std::optional<ndtom::TrajectoryError> live_reference_error;
   double total_seconds = 0;
   size_t peak_rss = 0;
   mapper::RunBudget budget;  ///< the map's memory budget and why
