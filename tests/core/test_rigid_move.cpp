@@ -5,10 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <map>
-#include <random>
 
+#include "core/synthetic_room.h"
 #include "ndtom/map/rigid_move.h"
-#include "ndtom_eval/batch_ndt.h"
 
 using Eigen::Isometry3d;
 using Eigen::Vector3d;
@@ -25,31 +24,12 @@ struct Scan {
   std::vector<Vector3d> points;
 };
 
-// Walls, a floor and clutter around the origin, seen from near it.
+// The synthetic room seen from a few places near its sensor.
 std::vector<Scan> roomScans(int count, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<Scan> scans(count);
-  for (auto& s : scans) {
-    s.origin = Vector3d(1.5 * u(rng), 1.5 * u(rng), 0.3 * u(rng));
-    for (int i = 0; i < 500; ++i) {
-      const double a = 4 * u(rng), b = 4 * u(rng);
-      switch (i % 4) {
-        case 0:
-          s.points.emplace_back(4.3 + 0.03 * u(rng), a, 0.5 * b);
-          break;
-        case 1:
-          s.points.emplace_back(a, b, -1.1 + 0.03 * u(rng));
-          break;
-        case 2:
-          s.points.emplace_back(a, -3.7 + 0.05 * u(rng), 0.5 * b);
-          break;
-        default:
-          s.points.emplace_back(0.6 * a, 0.6 * b, 0.3 * u(rng) + 1.0);
-          break;
-      }
-    }
-  }
+  std::vector<Scan> scans;
+  for (int i = 0; i < count; ++i)
+    scans.push_back({ndtom::testing::kRoomSensor + Vector3d(0.3 * i, -0.2 * i, 0.05 * i),
+                     ndtom::testing::sampleRoom(2000, seed + unsigned(i))});
   return scans;
 }
 
