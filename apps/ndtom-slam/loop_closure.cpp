@@ -4,7 +4,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "ndtom/map/rigid_move.h"
 #include "ndtom_apps/process_clock.h"
 
 namespace ndtom::slam {
@@ -92,6 +91,7 @@ void LoopClosure::finishScan(OnlineMapper& mapper, OnlineStep& step,
   ScanOptions scan = map_options_.scan;
   scan.threads = threads_;
   k.submap.insertScan(points_map, origin_map, scan);
+  window_scans_[keyframes_.size() - 1].push_back({points_map, origin_map});
   ++k.scans;
   if (step.outcome != OnlineOutcome::First)
     segment_covariance_ +=
@@ -127,7 +127,10 @@ std::optional<Eigen::Isometry3d> LoopClosure::startKeyframe(
   addOdometryEdge(id, relative, restart);
   const auto start = std::chrono::steady_clock::now();
   mapper.replaceMap(window(), change.value_or(Eigen::Isometry3d::Identity()));
-  if (id >= options_.window) coarsen(keyframes_[id - options_.window]);  // left the window
+  if (id >= options_.window) {  // left the window
+    coarsen(keyframes_[id - options_.window]);
+    window_scans_.erase(id - options_.window);
+  }
   report_.window_seconds += apps::secondsSince(start);
   return change;
 }
@@ -136,13 +139,24 @@ std::optional<Eigen::Isometry3d> LoopClosure::startKeyframe(
 // by where the graph now puts the newest of them: the live map, and odometry, go on in the
 // graph's frame. One motion for all, so the window stays as odometry made it: moved each to
 // its own node, its submaps would meet at a kink where the graph spread the loop's error.
+// The submaps are their scans inserted again at the moved poses, the exact NDT-OM: moving the
+// submaps themselves (movedMap) merges Gaussians that meet in a cell and resamples occupancy,
+// and on four 2 km noisy drives odometry after the closures drifted more (doc/slam.md).
 Eigen::Isometry3d LoopClosure::moveWindow(size_t id) {
   const auto start = std::chrono::steady_clock::now();
   const Eigen::Isometry3d change = graph_.pose(id - 1) * keyframes_[id - 1].anchor.inverse();
   const size_t begin = id >= options_.window - 1 ? id - (options_.window - 1) : 0;
   for (size_t i = begin; i < id; ++i) {
     Keyframe& k = keyframes_[i];
-    k.submap = movedMap(k.submap, change);
+    NdtMap moved(map_options_);
+    ScanOptions scan = map_options_.scan;
+    scan.threads = threads_;
+    for (InsertedScan& s : window_scans_[i]) {
+      for (Eigen::Vector3d& p : s.points) p = change * p;
+      s.origin = change * s.origin;
+      moved.insertScan(s.points, s.origin, scan);
+    }
+    k.submap = std::move(moved);
     k.anchor = change * k.anchor;
     for (size_t s = k.first_scan; s < scan_odometry_.size() && scan_keyframe_[s] == i; ++s)
       scan_odometry_[s] = change * scan_odometry_[s];

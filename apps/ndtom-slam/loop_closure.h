@@ -2,11 +2,12 @@
 // ways, and the pose graph on MRPT's optimizer. Odometry runs against a live map of the last
 // few keyframes' submaps, so it never registers against its own drifted past; the graph
 // corrects the keyframes, and each scan follows its keyframe. When a loop closes, the live
-// map's submaps are moved (rigidly, movedMap) to where the graph puts the newest and odometry
-// goes on in the graph's frame: the pose known during the run is the corrected one.
+// window is moved to where the graph puts its newest keyframe (its scans inserted again there)
+// and odometry goes on in the graph's frame: the pose known during the run is the corrected one.
 #pragma once
 
 #include <Eigen/Geometry>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -61,7 +62,7 @@ struct LoopClosureReport {
   std::vector<LoopRecord> loops;  ///< every candidate checked
   size_t accepted = 0, rejected = 0, optimizations = 0;
   size_t restarts = 0;  ///< odometry started again after lost scans
-  size_t live_corrections = 0;  ///< the live map moved to the graph's poses
+  size_t live_corrections = 0;  ///< the live window moved to the graph's poses
   GraphOptimization last_optimization;
   double check_seconds = 0, optimize_seconds = 0, window_seconds = 0;
   double correction_seconds = 0;  ///< moving the live window after loop closures
@@ -116,6 +117,13 @@ class LoopClosure {
   double path_ = 0, path_at_closure_ = 0;
   int lost_in_a_row_ = 0;
   Eigen::Isometry3d live_from_odometry_ = Eigen::Isometry3d::Identity();
+  /// The scans of the keyframes in the live window, as inserted into their submaps (map frame):
+  /// a correction inserts them again, moved.
+  struct InsertedScan {
+    std::vector<Eigen::Vector3d> points;
+    Eigen::Vector3d origin;
+  };
+  std::map<size_t, std::vector<InsertedScan>> window_scans_;
   LoopClosureReport report_;
 };
 
