@@ -100,3 +100,38 @@ TEST(SlamLoopClosure, ClosesTheBlockAndCorrectsTheLiveMapAndItsTrajectoryRebuild
   ASSERT_EQ(map.exit_code, 0) << map.err;
   EXPECT_TRUE(sameBytes(readText(prefix + ".ndtom"), readText(rebuilt + ".ndtom")));
 }
+
+// Every block the same (ndtom-worldgen --identical-blocks): a street looks like the next one.
+// A loop accepted between scans whose true positions are far apart is a false closure.
+TEST(SlamLoopClosure, LookAlikeStreetsAreNeverClosedTogether) {
+  TempDir dir;
+  const fs::path city = dir / "city";
+  const ProgramRun world = runExecutable(
+      kWorldgen, quoted(city.string()) + " --km 0.34 --step 1 --blocks 2 --identical-blocks -q",
+      dir);
+  ASSERT_EQ(world.exit_code, 0) << world.err;
+  const std::string prefix = (dir / "run").string();
+  const ProgramRun run = runExecutable(
+      kSlam, quoted(city.string()) + " -o " + quoted(prefix) + kMapOptions + "--loop-closure on",
+      dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::vector<Eigen::Isometry3d> truth;
+  for (const auto& p : ndtom::io::readPoseFile((city / "poses.txt").string()))
+    truth.push_back(p.pose);
+  const std::string json = readText(prefix + ".summary.json");
+  size_t accepted = 0, checked = 0;
+  for (size_t at = json.find("\"older_scan\":"); at != std::string::npos;
+       at = json.find("\"older_scan\":", at + 1)) {
+    ++checked;
+    const size_t end = json.find('}', at);
+    if (json.substr(at, end - at).find("\"accepted\": true") == std::string::npos) continue;
+    ++accepted;
+    const auto older = size_t(jsonNumber(json.substr(at), "older_scan"));
+    const auto newer = size_t(jsonNumber(json.substr(at), "newer_scan"));
+    const double apart = (truth.at(older).translation() - truth.at(newer).translation()).norm();
+    // A keyframe's submap reaches its length (10 m) past its first scan.
+    EXPECT_LT(apart, 15.0) << "scans " << older << " and " << newer;
+  }
+  ASSERT_GT(checked, 0u) << "no loop candidate: the test shows nothing";
+  EXPECT_GE(accepted, 1u);  // the true loop is still closed
+}
