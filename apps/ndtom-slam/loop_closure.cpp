@@ -38,8 +38,9 @@ void validate(const LoopClosureOptions& o) {
 }
 
 LoopClosure::LoopClosure(const LoopClosureOptions& options, const MapOptions& map, int threads)
-    : options_(options), map_options_(map), threads_(threads), checker_(options.check) {
+    : options_(options), map_options_(map), scan_options_(map.scan), checker_(options.check) {
   validate(options_);
+  scan_options_.threads = threads;
 }
 
 void LoopClosure::commit(OnlineMapper& mapper, OnlineStep& step,
@@ -88,9 +89,7 @@ void LoopClosure::finishScan(OnlineMapper& mapper, OnlineStep& step,
   }
   if (!step.inserted) return;
   Keyframe& k = keyframes_.back();
-  ScanOptions scan = map_options_.scan;
-  scan.threads = threads_;
-  k.submap.insertScan(points_map, origin_map, scan);
+  k.submap.insertScan(points_map, origin_map, scan_options_);
   window_scans_[keyframes_.size() - 1].push_back({points_map, origin_map});
   ++k.scans;
   if (step.outcome != OnlineOutcome::First)
@@ -149,12 +148,10 @@ Eigen::Isometry3d LoopClosure::moveWindow(size_t id) {
   for (size_t i = begin; i < id; ++i) {
     Keyframe& k = keyframes_[i];
     NdtMap moved(map_options_);
-    ScanOptions scan = map_options_.scan;
-    scan.threads = threads_;
     for (InsertedScan& s : window_scans_[i]) {
       for (Eigen::Vector3d& p : s.points) p = change * p;
       s.origin = change * s.origin;
-      moved.insertScan(s.points, s.origin, scan);
+      moved.insertScan(s.points, s.origin, scan_options_);
     }
     k.submap = std::move(moved);
     k.anchor = change * k.anchor;

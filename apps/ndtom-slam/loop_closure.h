@@ -107,7 +107,7 @@ class LoopClosure {
 
   LoopClosureOptions options_;
   MapOptions map_options_;
-  int threads_;
+  ScanOptions scan_options_;  ///< the map's, on the run's threads: submaps' insertions
   LoopChecker checker_;
   PoseGraph graph_;
   std::vector<Keyframe> keyframes_;
