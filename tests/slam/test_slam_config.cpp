@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "mapper/mapper_run.h"
+#include "slam/loop_checks.h"
 #include "ndtom_io/pose_file.h"
 #include "mrpt/sena_log.h"
 
@@ -171,12 +172,9 @@ TEST(SlamConfig, TheShippedConfigClosesMrptsSenaLoop) {
   ASSERT_EQ(odometry.size(), 225u);
   ASSERT_EQ(optimized.size(), 225u);
   size_t loops = 0;
-  for (size_t at = json.find("\"older_scan\":"); at != std::string::npos;
-       at = json.find("\"older_scan\":", at + 1)) {
-    const size_t end = json.find('}', at);
-    if (json.substr(at, end - at).find("\"accepted\": true") == std::string::npos) continue;
-    const auto older = size_t(jsonNumber(json.substr(at), "older_scan"));
-    const auto newer = size_t(jsonNumber(json.substr(at), "newer_scan"));
+  for (const slam_test::CheckedLoop& loop : slam_test::checkedLoops(json)) {
+    if (!loop.accepted) continue;
+    const size_t older = loop.older_scan, newer = loop.newer_scan;
     ASSERT_LT(newer, odometry.size());
     SCOPED_TRACE(testing::Message() << "loop between scans " << older << " and " << newer);
     EXPECT_GE(newer - older, 100u);  // round the loop, not the last few metres

@@ -7,6 +7,7 @@
 #include <mrpt/graphs/CNetworkOfPoses.h>
 
 #include "mapper/mapper_run.h"
+#include "slam/loop_checks.h"
 #include "ndtom_io/pose_file.h"
 
 using namespace mapper_test;
@@ -119,19 +120,16 @@ TEST(SlamLoopClosure, LookAlikeStreetsAreNeverClosedTogether) {
   for (const auto& p : ndtom::io::readPoseFile((city / "poses.txt").string()))
     truth.push_back(p.pose);
   const std::string json = readText(prefix + ".summary.json");
-  size_t accepted = 0, checked = 0;
-  for (size_t at = json.find("\"older_scan\":"); at != std::string::npos;
-       at = json.find("\"older_scan\":", at + 1)) {
-    ++checked;
-    const size_t end = json.find('}', at);
-    if (json.substr(at, end - at).find("\"accepted\": true") == std::string::npos) continue;
+  const std::vector<slam_test::CheckedLoop> loops = slam_test::checkedLoops(json);
+  size_t accepted = 0;
+  for (const slam_test::CheckedLoop& loop : loops) {
+    if (!loop.accepted) continue;
     ++accepted;
-    const auto older = size_t(jsonNumber(json.substr(at), "older_scan"));
-    const auto newer = size_t(jsonNumber(json.substr(at), "newer_scan"));
+    const size_t older = loop.older_scan, newer = loop.newer_scan;
     const double apart = (truth.at(older).translation() - truth.at(newer).translation()).norm();
     // A keyframe's submap reaches its length (10 m) past its first scan.
     EXPECT_LT(apart, 15.0) << "scans " << older << " and " << newer;
   }
-  ASSERT_GT(checked, 0u) << "no loop candidate: the test shows nothing";
+  ASSERT_FALSE(loops.empty()) << "no loop candidate: the test shows nothing";
   EXPECT_GE(accepted, 1u);  // the true loop is still closed
 }
