@@ -57,6 +57,13 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
         [](O& o, const std::string& v) {
           o.tracking.placement.ground_thinning = int(parseInteger("--ground-thinning", v, 1, 1000));
         }}},
+      {"--retry-without-finest",
+       {true,
+        [](O& o, const std::string& v) {
+          if (v != "on" && v != "off")
+            throw UsageError("--retry-without-finest: expected on or off, got '" + v + "'");
+          o.tracking.placement.retry_without_finest = v == "on";
+        }}},
       {"--weak-sigma",
        {true,
         [](O& o, const std::string& v) {
@@ -242,6 +249,8 @@ std::string helpText() {
       "  --ground-thinning K       one in K points on the scan's ground plane registers (100);\n"
       "                            on flat ground every ring point holds a moving lidar\n"
       "                            where a map scan's rings lie\n"
+      "  --retry-without-finest on|off  a scan the whole pyramid cannot place is tried\n"
+      "                            without its finest level (on)\n"
       "  --weak-sigma M            directions the scene constrains worse than M (std. dev.)\n"
       "                            keep the prediction (0.1; inf: never)\n"
       "  --live-map on|off         keep a map of the localized scans beside the prior map and\n"

@@ -62,6 +62,13 @@ const apps::OptionTable<SlamOptions>& optionTable() {
       {"--weak-sigma",
        {true,
         [](O& o, const std::string& v) { o.online.placement.weak_direction_sigma = parseReal("--weak-sigma", v); }}},
+      {"--retry-without-finest",
+       {true,
+        [](O& o, const std::string& v) {
+          if (v != "on" && v != "off")
+            throw UsageError("--retry-without-finest: expected on or off, got '" + v + "'");
+          o.online.placement.retry_without_finest = v == "on";
+        }}},
       {"--min-judged-fraction",
        {true,
         [](O& o, const std::string& v) {
@@ -274,6 +281,9 @@ std::string helpText() {
        "  --ground-thinning K       one in K points on the scan's ground plane registers (100);\n"
        "                            all are inserted. On flat ground every ring point makes a\n"
        "                            moving lidar seem to stand still\n"
+       "  --retry-without-finest on|off  a scan the whole pyramid cannot place is tried\n"
+       "                            without its finest level (on): a sparse lidar's second\n"
+       "                            scan against the first one's map\n"
        "  --weak-sigma M            directions the scene constrains worse than M (std. dev.)\n"
        "                            keep the prediction (0.1)\n"
        "  --threads N               threads of registration and insertion: the map's\n"

@@ -12,6 +12,24 @@
 namespace ndtom::slam {
 namespace {
 
+// The resolution of the registration level that placed the scan (0: none ran).
+double finestLevel(const ndtom::OnlineStep& step) {
+  return step.registration.levels.empty() ? 0.0 : step.registration.levels.back().resolution;
+}
+
+/// The scans only the retry without the registration's finest level placed: how many, and
+/// the first.
+struct WithoutFinestReport {
+  size_t first = 0, count = 0;
+};
+
+WithoutFinestReport withoutFinestReport(const SlamResult& r) {
+  WithoutFinestReport out;
+  for (const SlamScan& s : r.scans)
+    if (s.step.without_finest && out.count++ == 0) out.first = s.step.index;
+  return out;
+}
+
 void writeStep(apps::JsonWriter& j, const SlamScan& s) {
   const ndtom::OnlineStep& st = s.step;
   j.beginObject();
@@ -28,6 +46,8 @@ void writeStep(apps::JsonWriter& j, const SlamScan& s) {
   j.field("judged_fraction", st.registration.judged_fraction);
   j.field("free_fraction", st.registration.free_fraction);
   j.field("weak_directions", st.weak_directions);
+  j.field("finest_level_m", finestLevel(st));
+  j.field("without_finest", st.without_finest);
   // Registration's correction (both in the live frame, which a loop closure may have moved).
   j.field("correction_m", (s.live.translation() - st.prediction.translation()).norm());
   j.field("sigma_xyz_m",
@@ -139,6 +159,7 @@ std::string summaryJson(const SlamSummary& s) {
   j.field("map_gaussians", s.map->numGaussians());
   const std::vector<double> seconds = scanSeconds(r);
   j.field("scan_seconds_median", apps::quantile(seconds, 0.5));
+  j.field("placed_without_finest_level", withoutFinestReport(r).count);
   j.field("scans_per_second", r.seconds > 0 ? double(r.scans.size()) / r.seconds : 0.0);
   if (s.reference_error) writeError(j, "reference", s.options->reference_file, *s.reference_error);
   if (s.odometry_reference_error)
@@ -178,6 +199,13 @@ std::string summaryText(const SlamSummary& s) {
                 r.seconds > 0 ? double(r.scans.size()) / r.seconds : 0.0,
                 1e3 * apps::quantile(scanSeconds(r), 0.5));
   t << line;
+  if (const WithoutFinestReport w = withoutFinestReport(r); w.count > 0) {
+    std::snprintf(line, sizeof(line),
+                  "  %zu scans placed only without the registration's finest level (the "
+                  "first: scan %zu)\n",
+                  w.count, w.first);
+    t << line;
+  }
   if (s.reference_error) {
     const ndtom::TrajectoryError& e = *s.reference_error;
     std::snprintf(line, sizeof(line),

@@ -39,6 +39,7 @@ recovery_radius      = 3
 recovery_yaw_deg     = 45
 weak_direction_sigma = 0.25
 ground_thinning      = 50
+retry_without_finest = false
 target_radius        = 30
 target_refresh_distance  = 1.5
 
@@ -79,6 +80,7 @@ TEST(MapBuilderOptions, EveryKeyIsReadAsWritten) {
   EXPECT_EQ(p.recovery_yaw_deg, 45);
   EXPECT_EQ(p.weak_direction_sigma, 0.25);
   EXPECT_EQ(p.ground_thinning, 50);
+  EXPECT_FALSE(p.retry_without_finest);
   EXPECT_EQ(o.online.target_radius, 30);
   EXPECT_EQ(o.online.target_refresh_distance, 1.5);
   EXPECT_EQ(o.mapOptions.resolution, 0.25);
@@ -123,7 +125,8 @@ TEST(MapBuilderOptions, SaveThenLoadGivesTheSameOptions) {
 TEST(MapBuilderOptions, TheKeysAreThoseSaved) {
   const auto keys = Params::keys();
   for (const char* key : {"level_factors", "planar", "recovery_radius", "target_radius",
-                          "target_refresh_distance", "threads", "max_free_fraction"})
+                          "target_refresh_distance", "threads", "max_free_fraction",
+                          "retry_without_finest"})
     EXPECT_NE(std::find(keys.begin(), keys.end(), key), keys.end()) << key;
   EXPECT_EQ(std::find(keys.begin(), keys.end(), "resolution"), keys.end())
       << "the map's keys are in its own section";
@@ -141,6 +144,7 @@ TEST(MapBuilderOptions, BadValuesNameTheSectionAndTheKey) {
       {"[slam]\ntarget_refresh_distance = -2\n", "[slam]", "target_refresh_distance"},
       {"[slam]\nground_thinning = 2.5\n", "[slam]", "ground_thinning"},
       {"[slam]\nplanar = on\n", "[slam]", "planar"},
+      {"[slam]\nretry_without_finest = maybe\n", "[slam]", "retry_without_finest"},
       {"[slam]\nlevel_factors = 2 4\n", "[slam]", "level_factors"},
       {"[slam]\nthreads = 0\n", "[slam]", "threads"},
       {"[slam]\n[slam_ndtOccupancyMap_00_insertOpts]\nresolution = -0.2\n",

@@ -22,6 +22,12 @@ void writeKey(mrpt::config::CConfigFileBase& c, const std::string& section, cons
 }
 
 void writeKey(mrpt::config::CConfigFileBase& c, const std::string& section, const std::string& name,
+              bool value, const std::string& comment) {
+  c.write(section, name, value, mrpt::config::MRPT_SAVE_NAME_PADDING(),
+          mrpt::config::MRPT_SAVE_VALUE_PADDING(), comment);
+}
+
+void writeKey(mrpt::config::CConfigFileBase& c, const std::string& section, const std::string& name,
               int value, const std::string& comment) {
   c.write(section, name, value, mrpt::config::MRPT_SAVE_NAME_PADDING(),
           mrpt::config::MRPT_SAVE_VALUE_PADDING(), comment);
@@ -57,6 +63,8 @@ void CMetricMapBuilderNDT::TConfigParams::loadFromConfigFile(
               ndtom::NonFinite::Infinity);
   o.placement.ground_thinning = int(iniInteger(source, section, "ground_thinning",
                                                o.placement.ground_thinning, 1, kMaxGroundThinning));
+  o.placement.retry_without_finest = detail::iniBool(source, section, "retry_without_finest",
+                                                     o.placement.retry_without_finest);
   o.target_radius = iniReal(source, section, "target_radius", o.target_radius);
   o.target_refresh_distance =
       iniReal(source, section, "target_refresh_distance", o.target_refresh_distance);
@@ -85,6 +93,8 @@ void CMetricMapBuilderNDT::TConfigParams::saveToConfigFile(mrpt::config::CConfig
            "Directions less constrained (std. dev.) keep the prediction [m] (inf: never)");
   writeKey(c, s, "ground_thinning", p.ground_thinning,
            "One in K points of the scan's ground plane registers, in [1, 1000]");
+  writeKey(c, s, "retry_without_finest", p.retry_without_finest,
+           "A scan the whole pyramid cannot place is tried without its finest level");
   writeKey(c, s, "target_radius", online.target_radius,
            "Register against the map within this distance [m]");
   writeKey(c, s, "target_refresh_distance", online.target_refresh_distance,
@@ -123,7 +133,8 @@ bool CMetricMapBuilderNDT::TConfigParams::operator==(const TConfigParams& o) con
          r.max_free_fraction == q.max_free_fraction && r.planar == q.planar &&
          p.recovery_radius == x.recovery_radius && p.recovery_yaw_deg == x.recovery_yaw_deg &&
          p.weak_direction_sigma == x.weak_direction_sigma &&
-         p.ground_thinning == x.ground_thinning && online.target_radius == o.online.target_radius &&
+         p.ground_thinning == x.ground_thinning &&
+         p.retry_without_finest == x.retry_without_finest && online.target_radius == o.online.target_radius &&
          online.target_refresh_distance == o.online.target_refresh_distance &&
          online.threads == o.online.threads;
 }

@@ -21,6 +21,7 @@ void writePlacementOptions(JsonWriter& j, const PlacementOptions& o) {
   j.field("recovery_radius", o.recovery_radius);
   j.field("recovery_yaw_deg", o.recovery_yaw_deg);
   j.field("ground_thinning", o.ground_thinning);
+  j.field("retry_without_finest", o.retry_without_finest);
   j.field("weak_direction_sigma", o.weak_direction_sigma);
 }
 

@@ -17,7 +17,7 @@ std::optional<Eigen::Isometry3d> levelledPose(NdtRegistration& leveller,
                                               const std::vector<Eigen::Vector3d>& points,
                                               const Eigen::Isometry3d& pose) {
   leveller.pinPyramid(pyramid, map.revision());
-  const size_t finest = pyramid->size() - 1;
+  const size_t finest = std::min(pyramid->size(), leveller.levelsInUse()) - 1;
   const RegistrationResult r =
       leveller.align(map, points, pose, NdtRegistration::Levels{finest, finest + 1});
   if (!r.converged) return std::nullopt;

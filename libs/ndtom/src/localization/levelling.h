@@ -23,7 +23,8 @@ namespace ndtom::tracking {
 RegistrationOptions levellingOptions(RegistrationOptions registration);
 
 /// `pose` of `points` (sensor frame) registered again by `leveller` (made with
-/// levellingOptions()) on the finest level of `pyramid`, the levels the pose was found on;
+/// levellingOptions()) on the finest level of `pyramid` it uses (levelsInUse()), the level
+/// the pose was found on;
 /// nullopt if the levelling's verdict fails. Throws as NdtRegistration::align.
 std::optional<Eigen::Isometry3d> levelledPose(NdtRegistration& leveller,
                                               const std::shared_ptr<const MapPyramid>& pyramid,

@@ -65,14 +65,21 @@ ScanPlacer& ScanPlacer::operator=(ScanPlacer&&) noexcept = default;
 Placement ScanPlacer::place(const NdtMap& map, const std::vector<Eigen::Vector3d>& points,
                             const Eigen::Isometry3d& prediction,
                             const Eigen::Isometry3d& last_pose) {
+  useLevels(SIZE_MAX);  // (a retry that threw left fewer)
   Placement placement;
   placement.pose = prediction;
-  registerFromStarts(map, tracking::thinGround(points, options_.ground_thinning), prediction,
-                     last_pose, placement);
-  if (placement.outcome == PlacementOutcome::Lost) return placement;
-  placement.weak_directions = tracking::keepPredictionAlongWeakDirections(
-      placement.pose, prediction, placement.registration.covariance, options_.weak_direction_sigma);
-  if (levels(options_)) level(map, points, placement);
+  const std::vector<Eigen::Vector3d> thinned =
+      tracking::thinGround(points, options_.ground_thinning);
+  registerFromStarts(map, thinned, prediction, last_pose, placement);
+  if (placement.outcome == PlacementOutcome::Lost)
+    placeWithoutFinest(map, thinned, prediction, last_pose, placement);
+  if (placement.outcome != PlacementOutcome::Lost) {
+    placement.weak_directions = tracking::keepPredictionAlongWeakDirections(
+        placement.pose, prediction, placement.registration.covariance,
+        options_.weak_direction_sigma);
+    if (levels(options_)) level(map, points, placement);  // on the levels that placed it
+  }
+  useLevels(SIZE_MAX);
   return placement;
 }
 
@@ -114,6 +121,33 @@ void ScanPlacer::registerFromStarts(const NdtMap& map, const std::vector<Eigen::
   } else {
     placement.registration.failure += "; search around the prediction: " + found.failure;
   }
+}
+
+void ScanPlacer::useLevels(size_t count) {
+  registration().setLevelsInUse(count);
+  leveller_.setLevelsInUse(count);
+}
+
+// A lost scan, tried again without the finest level; kept, with those levels still in use
+// (the caller levels it on them), if that places it.
+void ScanPlacer::placeWithoutFinest(const NdtMap& map, const std::vector<Eigen::Vector3d>& points,
+                                    const Eigen::Isometry3d& prediction,
+                                    const Eigen::Isometry3d& last_pose, Placement& placement) {
+  const size_t levels = options_.registration.level_factors.size();
+  if (!options_.retry_without_finest || levels < 3) return;  // two levels left at least
+  Placement coarser;
+  coarser.pose = prediction;
+  coarser.registrations = placement.registrations;
+  useLevels(levels - 1);
+  registerFromStarts(map, points, prediction, last_pose, coarser);
+  if (coarser.outcome == PlacementOutcome::Lost) {
+    placement.registrations = coarser.registrations;
+    placement.registration.failure +=
+        "; without the finest level: " + coarser.registration.failure;
+    return;
+  }
+  coarser.without_finest = true;
+  placement = std::move(coarser);
 }
 
 // With the ground thinned: the levelling pass (levelling.h), kept if its verdict holds.

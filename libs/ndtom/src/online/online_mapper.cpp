@@ -139,6 +139,7 @@ OnlineStep OnlineMapper::locate(const std::vector<Eigen::Vector3d>& points, doub
   step.registration = std::move(placed.registration);
   step.registrations = placed.registrations;
   step.weak_directions = placed.weak_directions;
+  step.without_finest = placed.without_finest;
   step.locate_seconds = secondsSince(start);
   return step;
 }

@@ -8,7 +8,8 @@
 namespace ndtom::apps {
 
 /// The options' fields in the current JSON object: method, level_factors, ..., threads of the
-/// registration, then recovery_radius, recovery_yaw_deg, ground_thinning, weak_direction_sigma.
+/// registration, then recovery_radius, recovery_yaw_deg, ground_thinning, retry_without_finest,
+/// weak_direction_sigma.
 void writePlacementOptions(JsonWriter& json, const PlacementOptions& options);
 
 }  // namespace ndtom::apps

@@ -36,6 +36,14 @@ struct PlacementOptions {
   /// Of the scan points on its ground plane, one in this many take part in registration
   /// (Default: 100; 1: all, and no levelling pass).
   int ground_thinning = 100;
+  /// A scan the whole pyramid cannot place is tried again without its finest level. Against
+  /// a map of one scan, a sparse lidar's rings (32 x 450) leave each 0.4 m cell a piece of
+  /// one ring, and the next scan's rings fall between them: 19 % of it matched at its true
+  /// pose on the 0.4 m level, 96 % on the 0.8 m one. Lost, the second scan left the map one
+  /// scan, and every later scan was lost the same way; placed, the map fills in and the
+  /// finest level places the next scans (ndtom-worldgen's city: 1-2 scans of 500 need the
+  /// retry). (Default: true.)
+  bool retry_without_finest = true;
 };
 
 /// Throws std::invalid_argument("<option> = <value>: <why>") on the first bad value.
@@ -53,6 +61,8 @@ struct Placement {
   RegistrationResult registration;  ///< the one that decided (its failure when lost)
   int registrations = 0;            ///< runs of the registration, the search's included
   int weak_directions = 0;          ///< translation directions that kept the prediction
+  /// Placed by the retry without the finest level (retry_without_finest).
+  bool without_finest = false;
 };
 
 class ScanPlacer {
@@ -79,6 +89,10 @@ class ScanPlacer {
                           const Eigen::Isometry3d& prediction, const Eigen::Isometry3d& last_pose,
                           Placement& placement);
   void level(const NdtMap& map, const std::vector<Eigen::Vector3d>& points, Placement& placement);
+  void placeWithoutFinest(const NdtMap& map, const std::vector<Eigen::Vector3d>& points,
+                          const Eigen::Isometry3d& prediction, const Eigen::Isometry3d& last_pose,
+                          Placement& placement);
+  void useLevels(size_t count);
 
   PlacementOptions options_;
   GlobalLocalizer search_;  // holds the registration (and its pyramid) for every use

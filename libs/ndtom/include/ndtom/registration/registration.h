@@ -160,12 +160,19 @@ class NdtRegistration {
   /// The verdict still judges against the map itself. A null pyramid unpins.
   void pinPyramid(std::shared_ptr<const MapPyramid> pyramid, uint64_t revision);
 
+  /// Registers on the pyramid's first `count` levels only (coarse to fine; SIZE_MAX: all, the
+  /// default): the finest then in use is the last of them, for every align() and its
+  /// verdict. A tracker drops a level too fine for its sensor so (ScanPlacer).
+  void setLevelsInUse(size_t count);
+  size_t levelsInUse() const { return levels_in_use_; }
+
  private:
   struct State;  // the worker pool, and the last scan as the levels see it
   RegistrationOptions options_;
   std::shared_ptr<const MapPyramid> pyramid_;
   std::shared_ptr<const MapPyramid> pinned_;
   uint64_t pinned_revision_ = 0;
+  size_t levels_in_use_ = SIZE_MAX;
   std::unique_ptr<State> state_;
 };
 
