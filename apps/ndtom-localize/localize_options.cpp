@@ -15,6 +15,7 @@ namespace ndtom::localizer {
 namespace {
 
 using apps::parseInteger;
+using apps::parseOnOff;
 using apps::parseReal;
 using apps::UsageError;
 
@@ -60,9 +61,7 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
       {"--retry-without-finest",
        {true,
         [](O& o, const std::string& v) {
-          if (v != "on" && v != "off")
-            throw UsageError("--retry-without-finest: expected on or off, got '" + v + "'");
-          o.tracking.placement.retry_without_finest = v == "on";
+          o.tracking.placement.retry_without_finest = parseOnOff("--retry-without-finest", v);
         }}},
       {"--weak-sigma",
        {true,
@@ -145,10 +144,7 @@ const apps::OptionTable<LocalizeOptions>& optionTable() {
       {"--no-pictures", {false, [](O& o, const std::string&) { o.pictures = false; }}},
       {"--live-map",
        {true,
-        [](O& o, const std::string& v) {
-          if (v != "on" && v != "off") throw UsageError("--live-map: expected on or off, got '" + v + "'");
-          o.tracking.live.enabled = v == "on";
-        }}},
+        [](O& o, const std::string& v) { o.tracking.live.enabled = parseOnOff("--live-map", v); }}},
       {"--live-radius",
        {true,
         [](O& o, const std::string& v) {

@@ -20,6 +20,7 @@ namespace ndtom::slam {
 namespace {
 
 using apps::parseInteger;
+using apps::parseOnOff;
 using apps::parseReal;
 using apps::UsageError;
 
@@ -65,9 +66,7 @@ const apps::OptionTable<SlamOptions>& optionTable() {
       {"--retry-without-finest",
        {true,
         [](O& o, const std::string& v) {
-          if (v != "on" && v != "off")
-            throw UsageError("--retry-without-finest: expected on or off, got '" + v + "'");
-          o.online.placement.retry_without_finest = v == "on";
+          o.online.placement.retry_without_finest = parseOnOff("--retry-without-finest", v);
         }}},
       {"--min-judged-fraction",
        {true,
@@ -81,11 +80,7 @@ const apps::OptionTable<SlamOptions>& optionTable() {
         }}},
       {"--loop-closure",
        {true,
-        [](O& o, const std::string& v) {
-          if (v != "on" && v != "off")
-            throw UsageError("--loop-closure: expected on or off, got '" + v + "'");
-          o.loops.enabled = v == "on";
-        }}},
+        [](O& o, const std::string& v) { o.loops.enabled = parseOnOff("--loop-closure", v); }}},
       {"--keyframe-distance",
        {true,
         [](O& o, const std::string& v) {

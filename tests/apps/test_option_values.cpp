@@ -67,6 +67,14 @@ TEST(ParseBool, TheWordsMrptUnderstands) {
   EXPECT_NE(usageMessage([] { parseBool("--b", ""); }), "");
 }
 
+TEST(ParseOnOff, OnOrOffExactly) {
+  EXPECT_TRUE(parseOnOff("--s", "on"));
+  EXPECT_FALSE(parseOnOff("--s", "off"));
+  EXPECT_EQ(usageMessage([] { parseOnOff("--s", "ON"); }), "--s: expected on or off, got 'ON'");
+  EXPECT_EQ(usageMessage([] { parseOnOff("--s", "true"); }),
+            "--s: expected on or off, got 'true'");
+}
+
 TEST(SplitList, LeavesOutEmptyItems) {
   EXPECT_EQ(splitList("0.1,,0.2,"), (std::vector<std::string>{"0.1", "0.2"}));
   EXPECT_EQ(splitList("octomap"), (std::vector<std::string>{"octomap"}));

@@ -57,6 +57,12 @@ bool parseBool(const std::string& option, const std::string& text) {
   return asUsage([&] { return ndtom::boolFromText(option, text); });
 }
 
+bool parseOnOff(const std::string& option, const std::string& text) {
+  if (text != "on" && text != "off")
+    throw UsageError(option + ": expected on or off, got '" + text + "'");
+  return text == "on";
+}
+
 std::vector<std::string> splitList(const std::string& text) {
   std::vector<std::string> items;
   std::stringstream s(text);

@@ -31,6 +31,8 @@ std::vector<int64_t> parseIntegerList(const std::string& option, const std::stri
 std::vector<int> parseLevelFactors(const std::string& option, const std::string& text);
 /// true/yes/1 or false/no/0, any case, as the MRPT plugin reads its .ini files.
 bool parseBool(const std::string& option, const std::string& text);
+/// "on" or "off" exactly (the programs' switches: --loop-closure, --live-map, ...).
+bool parseOnOff(const std::string& option, const std::string& text);
 
 /// The items of a comma-separated list, trimmed, empty ones left out ("0.1,, 0.2," has two).
 std::vector<std::string> splitList(const std::string& text);
