@@ -65,7 +65,10 @@ ScanPlacer& ScanPlacer::operator=(ScanPlacer&&) noexcept = default;
 Placement ScanPlacer::place(const NdtMap& map, const std::vector<Eigen::Vector3d>& points,
                             const Eigen::Isometry3d& prediction,
                             const Eigen::Isometry3d& last_pose) {
-  useLevels(SIZE_MAX);  // (a retry that threw left fewer)
+  struct AllLevelsAfter {  // the retry's levels end with the call, even if it throws
+    ScanPlacer& placer;
+    ~AllLevelsAfter() { placer.useLevels(SIZE_MAX); }
+  } all_levels_after{*this};
   Placement placement;
   placement.pose = prediction;
   const std::vector<Eigen::Vector3d> thinned =
@@ -79,7 +82,6 @@ Placement ScanPlacer::place(const NdtMap& map, const std::vector<Eigen::Vector3d
         options_.weak_direction_sigma);
     if (levels(options_)) level(map, points, placement);  // on the levels that placed it
   }
-  useLevels(SIZE_MAX);
   return placement;
 }
 

@@ -76,8 +76,9 @@ struct OnlineStep {
   RegistrationResult registration;  ///< the one that decided (empty for the first scan)
   int registrations = 0;            ///< runs of the registration, a search's refinements included
   int weak_directions = 0;          ///< translation directions that kept the prediction
-  /// Placed without the registration's finest level (PlacementOptions::drop_finest_after):
-  /// `registration`'s last level is the one that placed it.
+  /// Placed only by the retry without the registration's finest level
+  /// (PlacementOptions::retry_without_finest): `registration`'s last level is the one that
+  /// placed it.
   bool without_finest = false;
   bool inserted = false;
   InsertionReport insertion;

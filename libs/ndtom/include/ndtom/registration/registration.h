@@ -162,7 +162,7 @@ class NdtRegistration {
 
   /// Registers on the pyramid's first `count` levels only (coarse to fine; SIZE_MAX: all, the
   /// default): the finest then in use is the last of them, for every align() and its
-  /// verdict. A tracker drops a level too fine for its sensor so (ScanPlacer).
+  /// verdict. ScanPlacer retries a scan without the finest level so.
   void setLevelsInUse(size_t count);
   size_t levelsInUse() const { return levels_in_use_; }
 
