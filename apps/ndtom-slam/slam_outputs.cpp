@@ -17,16 +17,15 @@ double finestLevel(const ndtom::OnlineStep& step) {
   return step.registration.levels.empty() ? 0.0 : step.registration.levels.back().resolution;
 }
 
-/// The scans only the retry without the registration's finest level placed: how many, and
-/// the first.
-struct WithoutFinestReport {
+/// The scans a step's flag marks: how many, and the first.
+struct ScanCount {
   size_t first = 0, count = 0;
 };
 
-WithoutFinestReport withoutFinestReport(const SlamResult& r) {
-  WithoutFinestReport out;
+ScanCount countScans(const SlamResult& r, bool ndtom::OnlineStep::*flag) {
+  ScanCount out;
   for (const SlamScan& s : r.scans)
-    if (s.step.without_finest && out.count++ == 0) out.first = s.step.index;
+    if (s.step.*flag && out.count++ == 0) out.first = s.step.index;
   return out;
 }
 
@@ -48,6 +47,7 @@ void writeStep(apps::JsonWriter& j, const SlamScan& s) {
   j.field("weak_directions", st.weak_directions);
   j.field("finest_level_m", finestLevel(st));
   j.field("without_finest", st.without_finest);
+  j.field("pose_from_refused_registration", st.pose_from_refused_registration);
   // Registration's correction (both in the live frame, which a loop closure may have moved).
   j.field("correction_m", (s.live.translation() - st.prediction.translation()).norm());
   j.field("sigma_xyz_m",
@@ -159,7 +159,9 @@ std::string summaryJson(const SlamSummary& s) {
   j.field("map_gaussians", s.map->numGaussians());
   const std::vector<double> seconds = scanSeconds(r);
   j.field("scan_seconds_median", apps::quantile(seconds, 0.5));
-  j.field("placed_without_finest_level", withoutFinestReport(r).count);
+  j.field("placed_without_finest_level", countScans(r, &ndtom::OnlineStep::without_finest).count);
+  j.field("lost_at_refused_pose",
+          countScans(r, &ndtom::OnlineStep::pose_from_refused_registration).count);
   j.field("scans_per_second", r.seconds > 0 ? double(r.scans.size()) / r.seconds : 0.0);
   if (s.reference_error) writeError(j, "reference", s.options->reference_file, *s.reference_error);
   if (s.odometry_reference_error)
@@ -199,11 +201,19 @@ std::string summaryText(const SlamSummary& s) {
                 r.seconds > 0 ? double(r.scans.size()) / r.seconds : 0.0,
                 1e3 * apps::quantile(scanSeconds(r), 0.5));
   t << line;
-  if (const WithoutFinestReport w = withoutFinestReport(r); w.count > 0) {
+  if (const ScanCount w = countScans(r, &ndtom::OnlineStep::without_finest); w.count > 0) {
     std::snprintf(line, sizeof(line),
                   "  %zu scans placed only without the registration's finest level (the "
                   "first: scan %zu)\n",
                   w.count, w.first);
+    t << line;
+  }
+  if (const ScanCount f = countScans(r, &ndtom::OnlineStep::pose_from_refused_registration);
+      f.count > 0) {
+    std::snprintf(line, sizeof(line),
+                  "  %zu lost scans kept the pose only the free-space check refused, not "
+                  "inserted (the first: scan %zu)\n",
+                  f.count, f.first);
     t << line;
   }
   if (s.reference_error) {

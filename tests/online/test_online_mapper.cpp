@@ -258,3 +258,43 @@ TEST(OnlineMapper, TrackingGoesOnInAMapMovedWithItsFrame) {
   bad.translation().x() = std::numeric_limits<double>::infinity();
   EXPECT_THROW(mapper.replaceMap(NdtMap(options().map), bad), std::invalid_argument);
 }
+
+// Something new in front of the sensor (here: a sector of the scan pulled halfway towards it,
+// into space the earlier scans saw free) makes the free-space check refuse the scan at its
+// true pose. Lost and not inserted, it still keeps the pose its registration found, so the
+// next prediction starts from there; a scan the map's Gaussians do not fit keeps the
+// prediction (AScanNothingPlacesIsLostAndLeavesTheMap).
+TEST(OnlineMapper, AScanOnlyTheFreeSpaceCheckRefusesKeepsItsRegisteredPose) {
+  const Balm& b = balm();
+  constexpr size_t kIntruded = 7;  // predicted 12° off: 8° after a turn of 20°
+  OnlineMapper mapper(options());
+  for (size_t i = 0; i < kIntruded; ++i) {
+    const OnlineStep s = mapper.process(b.scans[i], Vector3d::Zero(), b.times[i]);
+    ASSERT_NE(s.outcome, OnlineOutcome::Lost) << i << ": " << s.registration.failure;
+  }
+  std::vector<Vector3d> intruded = b.scans[kIntruded];
+  size_t pulled = 0;
+  for (Vector3d& p : intruded)
+    if (std::abs(std::atan2(p.y(), p.x())) < 1.0 && p.norm() > 4) {
+      p *= 0.5;
+      ++pulled;
+    }
+  ASSERT_GT(pulled, intruded.size() / 10);
+  const uint64_t revision = mapper.map().revision();
+  const OnlineStep s = mapper.process(intruded, Vector3d::Zero(), b.times[kIntruded]);
+  EXPECT_EQ(s.outcome, OnlineOutcome::Lost);
+  EXPECT_FALSE(s.inserted);
+  EXPECT_EQ(mapper.map().revision(), revision);
+  EXPECT_TRUE(s.registration.refused_for_free_space_only) << s.registration.failure;
+  EXPECT_GT(s.registration.free_fraction, options().placement.registration.max_free_fraction);
+  ASSERT_TRUE(s.pose_from_refused_registration);
+  const Isometry3d& truth = b.truth[kIntruded];
+  EXPECT_GT(angleDeg(s.prediction, truth), 5.0);  // the prediction would not do
+  EXPECT_LT((s.pose.translation() - truth.translation()).norm(), 0.05);
+  EXPECT_LT(angleDeg(s.pose, truth), 0.5);
+  const OnlineStep next =
+      mapper.process(b.scans[kIntruded + 1], Vector3d::Zero(), b.times[kIntruded + 1]);
+  EXPECT_EQ(next.outcome, OnlineOutcome::Tracked) << next.registration.failure;
+  EXPECT_FALSE(next.pose_from_refused_registration);
+  EXPECT_LT((next.pose.translation() - b.truth[kIntruded + 1].translation()).norm(), 0.05);
+}

@@ -77,6 +77,7 @@ Placement ScanPlacer::place(const NdtMap& map, const std::vector<Eigen::Vector3d
   if (placement.outcome == PlacementOutcome::Lost)
     placeWithoutFinest(map, thinned, prediction, last_pose, placement);
   if (placement.outcome != PlacementOutcome::Lost) {
+    placement.refused_pose.reset();
     placement.weak_directions = tracking::keepPredictionAlongWeakDirections(
         placement.pose, prediction, placement.registration.covariance,
         options_.weak_direction_sigma);
@@ -112,6 +113,13 @@ void ScanPlacer::registerFromStarts(const NdtMap& map, const std::vector<Eigen::
       accept(from_prediction ? PlacementOutcome::Tracked : PlacementOutcome::Recovered,
              from_prediction ? "prediction" : "last pose");
       return;
+    }
+    if (from_prediction && placement.registration.refused_for_free_space_only) {
+      Eigen::Isometry3d refused = placement.registration.pose;
+      tracking::keepPredictionAlongWeakDirections(refused, prediction,
+                                                  placement.registration.covariance,
+                                                  options_.weak_direction_sigma);
+      placement.refused_pose = refused;
     }
   }
   const GlobalLocalizationResult found = search_.searchAround(
@@ -149,6 +157,7 @@ void ScanPlacer::placeWithoutFinest(const NdtMap& map, const std::vector<Eigen::
     return;
   }
   coarser.without_finest = true;
+  coarser.refused_pose.reset();
   placement = std::move(coarser);
 }
 

@@ -136,6 +136,10 @@ OnlineStep OnlineMapper::locate(const std::vector<Eigen::Vector3d>& points, doub
   step.outcome = onlineOutcome(placed.outcome);
   step.found_by = std::move(placed.found_by);
   step.pose = placed.pose;
+  if (placed.outcome == PlacementOutcome::Lost && placed.refused_pose) {
+    step.pose = *placed.refused_pose;
+    step.pose_from_refused_registration = true;
+  }
   step.registration = std::move(placed.registration);
   step.registrations = placed.registrations;
   step.weak_directions = placed.weak_directions;

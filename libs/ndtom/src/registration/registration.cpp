@@ -308,6 +308,8 @@ RegistrationResult NdtRegistration::align(const NdtMap& map,
   result.covariance = covariance.covariance;
   result.failure = verdict(result, covariance.constrained, o);
   result.converged = result.failure.empty();
+  result.refused_for_free_space_only =
+      !result.converged && verdict(result, covariance.constrained, o, false).empty();
   clock.stop();
   result.seconds = secondsSince(start);
   return result;

@@ -90,7 +90,8 @@ PoseCovariance poseCovariance(const NdtObjective& finest, const Eigen::Isometry3
   return out;
 }
 
-std::string verdict(const RegistrationResult& r, bool constrained, const RegistrationOptions& o) {
+std::string verdict(const RegistrationResult& r, bool constrained, const RegistrationOptions& o,
+                    bool judge_free_space) {
   std::ostringstream why;
   if (!r.levels.back().converged) {
     why << "the finest level did not converge in " << o.max_iterations << " iterations";
@@ -100,7 +101,7 @@ std::string verdict(const RegistrationResult& r, bool constrained, const Registr
   } else if (r.matched_fraction < o.min_matched_fraction) {
     why << "only " << r.matched_fraction << " of the scan the map can judge matched it "
         << "(min_matched_fraction " << o.min_matched_fraction << ")";
-  } else if (r.free_fraction > o.max_free_fraction) {
+  } else if (judge_free_space && r.free_fraction > o.max_free_fraction) {
     why << r.free_fraction << " of the scan lies in open space the map has seen free "
         << "(max_free_fraction " << o.max_free_fraction << ")";
   } else if (!constrained) {

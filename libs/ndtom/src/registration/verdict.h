@@ -35,9 +35,10 @@ PoseCovariance poseCovariance(const NdtObjective& finest, const Eigen::Isometry3
                               const std::array<bool, 6>& free);
 
 /// Why the registration failed ("" if it did not): the finest level did not converge, too
-/// little of the scan could be judged or matched, too much lies in open free space, or the
-/// pose is unconstrained. `result` holds the finest level's figures.
+/// little of the scan could be judged or matched, too much lies in open free space (unless
+/// `judge_free_space` is false), or the pose is unconstrained. `result` holds the finest
+/// level's figures.
 std::string verdict(const RegistrationResult& result, bool constrained,
-                    const RegistrationOptions& options);
+                    const RegistrationOptions& options, bool judge_free_space = true);
 
 }  // namespace ndtom::registration

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,11 @@ struct Placement {
   int weak_directions = 0;          ///< translation directions that kept the prediction
   /// Placed by the retry without the finest level (retry_without_finest).
   bool without_finest = false;
+  /// When lost: where the registration from the prediction (whole pyramid) put the scan, if
+  /// only the free-space check refused it (RegistrationResult::refused_for_free_space_only),
+  /// with the prediction kept along weak directions. Not good enough to map or to report,
+  /// but a better guess of where the sensor is than the prediction.
+  std::optional<Eigen::Isometry3d> refused_pose;
 };
 
 class ScanPlacer {

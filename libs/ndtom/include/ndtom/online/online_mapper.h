@@ -8,8 +8,11 @@
 // if the verdict fails retry from the last pose, then search x, y and yaw around the
 // prediction (large turns between slow scans). Where the scene leaves a direction
 // unconstrained (flat ground, a corridor: large variance in the registration's covariance)
-// the pose keeps the prediction along it instead of sliding. A scan nothing places is lost:
-// its pose is the prediction and it is not inserted, so the map never takes a wrong pose.
+// the pose keeps the prediction along it instead of sliding. A scan nothing places is lost
+// and not inserted, so the map never takes a wrong pose. Its pose is the prediction, or, if
+// only the free-space check refused the registration from the prediction, that
+// registration's pose: the map may contradict itself where odometry comes back to streets it
+// mapped long ago with drift, and the prediction alone would run off at the next turn.
 //
 // Threading: one scan at a time; `threads` run inside registration and insertion.
 #pragma once
@@ -72,7 +75,8 @@ struct OnlineStep {
   /// What placed it: "first scan", "prediction", "last pose", "local search" or "" (lost).
   std::string found_by;
   Eigen::Isometry3d prediction = Eigen::Isometry3d::Identity();  ///< sensor -> map
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< kept: registered, or prediction
+  /// Kept: registered; when lost, the prediction or the refused registration's pose.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   RegistrationResult registration;  ///< the one that decided (empty for the first scan)
   int registrations = 0;            ///< runs of the registration, a search's refinements included
   int weak_directions = 0;          ///< translation directions that kept the prediction
@@ -80,6 +84,9 @@ struct OnlineStep {
   /// (PlacementOptions::retry_without_finest): `registration`'s last level is the one that
   /// placed it.
   bool without_finest = false;
+  /// Lost, at the pose where the registration from the prediction put it, which only the
+  /// free-space check refused (Placement::refused_pose): the next prediction follows it.
+  bool pose_from_refused_registration = false;
   bool inserted = false;
   InsertionReport insertion;
   double target_seconds = 0;    ///< bringing the registration target up to the map

@@ -115,6 +115,10 @@ struct RegistrationResult {
   /// The verdict: the finest level converged, the map could judge enough of the scan and
   /// matched enough of that, and little of it lies in free space. When false, `pose` is the last estimate and `failure` says why.
   bool converged = false;
+  /// Refused by the free-space check alone: the pose fits the map's Gaussians, but part of
+  /// the scan lies where the map saw free space (something new there, or a map that
+  /// contradicts itself, as where drifting odometry comes back to streets it mapped long ago).
+  bool refused_for_free_space_only = false;
   std::string failure;
   double seconds = 0;  ///< the whole call, pyramid (re)building included
   bool pyramid_rebuilt = false;
