@@ -51,6 +51,11 @@ const apps::OptionTable<SlamOptions>& optionTable() {
         [](O& o, const std::string& v) {
           o.online.target_refresh_distance = parseReal("--target-refresh", v);
         }}},
+      {"--free-space-overrule",
+       {true,
+        [](O& o, const std::string& v) {
+          o.online.free_space_overrule = parseReal("--free-space-overrule", v);
+        }}},
       {"--recovery-radius",
        {true, [](O& o, const std::string& v) { o.online.placement.recovery_radius = parseReal("--recovery-radius", v); }}},
       {"--recovery-yaw",
@@ -281,6 +286,10 @@ std::string helpText() {
        "                            scan against the first one's map\n"
        "  --weak-sigma M            directions the scene constrains worse than M (std. dev.)\n"
        "                            keep the prediction (0.1)\n"
+       "  --free-space-overrule M   a scan only the free-space check refuses is placed if its\n"
+       "                            registration ends within M metres and 1 degree of the\n"
+       "                            prediction (0.1; 0: never): rays that grazed a wall, or\n"
+       "                            drift, made the map's free space wrong there\n"
        "  --threads N               threads of registration and insertion: the map's\n"
        "                            --threads key (same result for any count)\n"
        "\n"

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 #include "ndtom_apps/json_writer.h"
 #include "ndtom_apps/placement_json.h"
@@ -48,6 +49,7 @@ void writeStep(apps::JsonWriter& j, const SlamScan& s) {
   j.field("finest_level_m", finestLevel(st));
   j.field("without_finest", st.without_finest);
   j.field("pose_from_refused_registration", st.pose_from_refused_registration);
+  j.field("free_space_overruled", st.free_space_overruled);
   // Registration's correction (both in the live frame, which a loop closure may have moved).
   j.field("correction_m", (s.live.translation() - st.prediction.translation()).norm());
   j.field("sigma_xyz_m",
@@ -144,6 +146,7 @@ std::string summaryJson(const SlamSummary& s) {
   j.beginObject("options");
   j.field("resolution", s.map->options().resolution);
   j.field("target_radius", online.target_radius);
+  j.field("free_space_overrule", online.free_space_overrule);
   j.field("threads", online.threads);
   j.beginObject("placement");
   apps::writePlacementOptions(j, o);
@@ -162,6 +165,7 @@ std::string summaryJson(const SlamSummary& s) {
   j.field("placed_without_finest_level", countScans(r, &ndtom::OnlineStep::without_finest).count);
   j.field("lost_at_refused_pose",
           countScans(r, &ndtom::OnlineStep::pose_from_refused_registration).count);
+  j.field("free_space_overruled", countScans(r, &ndtom::OnlineStep::free_space_overruled).count);
   j.field("scans_per_second", r.seconds > 0 ? double(r.scans.size()) / r.seconds : 0.0);
   if (s.reference_error) writeError(j, "reference", s.options->reference_file, *s.reference_error);
   if (s.odometry_reference_error)
@@ -201,21 +205,17 @@ std::string summaryText(const SlamSummary& s) {
                 r.seconds > 0 ? double(r.scans.size()) / r.seconds : 0.0,
                 1e3 * apps::quantile(scanSeconds(r), 0.5));
   t << line;
-  if (const ScanCount w = countScans(r, &ndtom::OnlineStep::without_finest); w.count > 0) {
-    std::snprintf(line, sizeof(line),
-                  "  %zu scans placed only without the registration's finest level (the "
-                  "first: scan %zu)\n",
-                  w.count, w.first);
-    t << line;
-  }
-  if (const ScanCount f = countScans(r, &ndtom::OnlineStep::pose_from_refused_registration);
-      f.count > 0) {
-    std::snprintf(line, sizeof(line),
-                  "  %zu lost scans kept the pose only the free-space check refused, not "
-                  "inserted (the first: scan %zu)\n",
-                  f.count, f.first);
-    t << line;
-  }
+  const std::pair<bool ndtom::OnlineStep::*, const char*> flagged[] = {
+      {&ndtom::OnlineStep::without_finest,
+       "scans placed only without the registration's finest level"},
+      {&ndtom::OnlineStep::free_space_overruled,
+       "scans placed although only the free-space check refused them: their registration "
+       "agreed with the prediction"},
+      {&ndtom::OnlineStep::pose_from_refused_registration,
+       "lost scans kept the pose only the free-space check refused, not inserted"}};
+  for (const auto& [flag, what] : flagged)
+    if (const ScanCount c = countScans(r, flag); c.count > 0)
+      t << "  " << c.count << " " << what << " (the first: scan " << c.first << ")\n";
   if (s.reference_error) {
     const ndtom::TrajectoryError& e = *s.reference_error;
     std::snprintf(line, sizeof(line),

@@ -42,6 +42,7 @@ ground_thinning      = 50
 retry_without_finest = false
 target_radius        = 30
 target_refresh_distance  = 1.5
+free_space_overrule  = 0.25
 
 [slam_ndtOccupancyMap_00_insertOpts]
 resolution = 0.25
@@ -83,6 +84,7 @@ TEST(MapBuilderOptions, EveryKeyIsReadAsWritten) {
   EXPECT_FALSE(p.retry_without_finest);
   EXPECT_EQ(o.online.target_radius, 30);
   EXPECT_EQ(o.online.target_refresh_distance, 1.5);
+  EXPECT_EQ(o.online.free_space_overrule, 0.25);
   EXPECT_EQ(o.mapOptions.resolution, 0.25);
   EXPECT_EQ(o.mapOptions.scan.max_range, 20);
   EXPECT_EQ(o.mapOptions.decimation, 2u);
@@ -113,6 +115,7 @@ TEST(MapBuilderOptions, SaveThenLoadGivesTheSameOptions) {
   // The values themselves, not only operator==.
   EXPECT_EQ(again.online.placement.registration.level_factors, (std::vector<int>{8, 4, 2}));
   EXPECT_EQ(again.online.target_refresh_distance, 1.5);
+  EXPECT_EQ(again.online.free_space_overrule, 0.25);
   EXPECT_EQ(again.mapOptions.resolution, 0.25);
   // An infinite sigma ("never keep the prediction") survives too.
   Params never = original;
@@ -126,7 +129,7 @@ TEST(MapBuilderOptions, TheKeysAreThoseSaved) {
   const auto keys = Params::keys();
   for (const char* key : {"level_factors", "planar", "recovery_radius", "target_radius",
                           "target_refresh_distance", "threads", "max_free_fraction",
-                          "retry_without_finest"})
+                          "retry_without_finest", "free_space_overrule"})
     EXPECT_NE(std::find(keys.begin(), keys.end(), key), keys.end()) << key;
   EXPECT_EQ(std::find(keys.begin(), keys.end(), "resolution"), keys.end())
       << "the map's keys are in its own section";
@@ -142,6 +145,7 @@ TEST(MapBuilderOptions, BadValuesNameTheSectionAndTheKey) {
       {"[slam]\ntarget_radius = -1\n", "[slam]", "target_radius"},
       {"[slam]\nrecovery_radius = nan\n", "[slam]", "recovery_radius"},
       {"[slam]\ntarget_refresh_distance = -2\n", "[slam]", "target_refresh_distance"},
+      {"[slam]\nfree_space_overrule = -0.1\n", "[slam]", "free_space_overrule"},
       {"[slam]\nground_thinning = 2.5\n", "[slam]", "ground_thinning"},
       {"[slam]\nplanar = on\n", "[slam]", "planar"},
       {"[slam]\nretry_without_finest = maybe\n", "[slam]", "retry_without_finest"},

@@ -21,6 +21,7 @@ recovery_radius      = 3
 target_radius        = 40
 min_matched_fraction = 0.3
 retry_without_finest = false
+free_space_overrule  = 0.05
 
 [NDTSLAM_ndtOccupancyMap_00_insertOpts]
 resolution = 0.25
@@ -59,15 +60,18 @@ TEST(SlamConfig, TheFileSetsTheOptionsAndFlagsWinOverIt) {
   EXPECT_EQ(jsonNumber(from_file, "resolution"), 0.25);
   EXPECT_EQ(jsonNumber(from_file, "lost"), 0);
   EXPECT_NE(from_file.find("\"retry_without_finest\": false"), std::string::npos);
+  EXPECT_EQ(jsonNumber(from_file, "free_space_overrule"), 0.05);
 
   // Flags before or after --config, the online mapper's and the map's, win.
   const std::string flags =
       summaryOf(dir, "--min-matched-fraction 0.35 --config=" + ini +
-                         " --resolution 0.2 --recovery-radius 2.5 --retry-without-finest on");
+                         " --resolution 0.2 --recovery-radius 2.5 --retry-without-finest on"
+                         " --free-space-overrule 0");
   EXPECT_EQ(jsonNumber(flags, "min_matched_fraction"), 0.35);
   EXPECT_EQ(jsonNumber(flags, "resolution"), 0.2);
   EXPECT_EQ(jsonNumber(flags, "recovery_radius"), 2.5);
   EXPECT_NE(flags.find("\"retry_without_finest\": true"), std::string::npos);
+  EXPECT_EQ(jsonNumber(flags, "free_space_overrule"), 0);
   EXPECT_EQ(jsonNumber(flags, "target_radius"), 40) << "the file's, where no flag is given";
 
   // Another section: its keys, the rest at the defaults (no map section for it).

@@ -68,6 +68,7 @@ void CMetricMapBuilderNDT::TConfigParams::loadFromConfigFile(
   o.target_radius = iniReal(source, section, "target_radius", o.target_radius);
   o.target_refresh_distance =
       iniReal(source, section, "target_refresh_distance", o.target_refresh_distance);
+  o.free_space_overrule = iniReal(source, section, "free_space_overrule", o.free_space_overrule);
   try {
     ndtom::OnlineMapperOptions check = o;
     check.map = map.toMapOptions();
@@ -99,6 +100,8 @@ void CMetricMapBuilderNDT::TConfigParams::saveToConfigFile(mrpt::config::CConfig
            "Register against the map within this distance [m]");
   writeKey(c, s, "target_refresh_distance", online.target_refresh_distance,
            "Move that region with the sensor after this travel [m] (0: every scan)");
+  writeKey(c, s, "free_space_overrule", online.free_space_overrule,
+           "Place a scan only free space refuses within this distance of the prediction [m]");
   mapOptions.saveToConfigFile(c, mapSection(s));
 }
 
@@ -136,6 +139,7 @@ bool CMetricMapBuilderNDT::TConfigParams::operator==(const TConfigParams& o) con
          p.ground_thinning == x.ground_thinning &&
          p.retry_without_finest == x.retry_without_finest && online.target_radius == o.online.target_radius &&
          online.target_refresh_distance == o.online.target_refresh_distance &&
+         online.free_space_overrule == o.online.free_space_overrule &&
          online.threads == o.online.threads;
 }
 

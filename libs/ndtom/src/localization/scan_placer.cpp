@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "localization/ground_thinning.h"
 #include "localization/levelling.h"
+#include "localization/refused_registration.h"
 #include "localization/weak_directions.h"
 #include "support/option_error.h"
 
@@ -97,6 +99,8 @@ void ScanPlacer::registerFromStarts(const NdtMap& map, const std::vector<Eigen::
     placement.found_by = found_by;
     placement.pose = placement.registration.pose;
   };
+  // The registration from the prediction, if only the free-space check refused it.
+  std::optional<RegistrationResult> refused;
   const bool new_start = !last_pose.isApprox(prediction);
   for (const bool from_prediction : {true, false}) {
     if (!from_prediction && !new_start) continue;
@@ -109,28 +113,32 @@ void ScanPlacer::registerFromStarts(const NdtMap& map, const std::vector<Eigen::
       placement.registration.failure = e.what();
       return;
     }
-    if (placement.registration.converged) {
+    RegistrationResult& r = placement.registration;
+    if (r.converged && (from_prediction || tracking::replacesRefused(r, refused, "the last pose's"))) {
       accept(from_prediction ? PlacementOutcome::Tracked : PlacementOutcome::Recovered,
              from_prediction ? "prediction" : "last pose");
       return;
     }
-    if (from_prediction && placement.registration.refused_for_free_space_only) {
-      Eigen::Isometry3d refused = placement.registration.pose;
-      tracking::keepPredictionAlongWeakDirections(refused, prediction,
-                                                  placement.registration.covariance,
-                                                  options_.weak_direction_sigma);
-      placement.refused_pose = refused;
-    }
+    if (from_prediction && r.refused_for_free_space_only) refused = r;
   }
-  const GlobalLocalizationResult found = search_.searchAround(
+  GlobalLocalizationResult found = search_.searchAround(
       map, points, prediction, options_.recovery_radius, options_.recovery_yaw_deg);
   placement.registrations += int(found.refined + found.fully_refined);
-  if (found.found) {
+  if (found.found && tracking::replacesRefused(found.best, refused, "the search's")) {
     placement.registration = found.best;
     accept(PlacementOutcome::Recovered, "local search");
-  } else {
-    placement.registration.failure += "; search around the prediction: " + found.failure;
+    return;
   }
+  const std::string failure = placement.registration.failure + "; search around the prediction: " +
+                              (found.found ? found.best.failure : found.failure);
+  if (refused) {  // lost, where that registration put it: the report is its own
+    placement.registration = std::move(*refused);
+    placement.refused_pose = placement.registration.pose;
+    tracking::keepPredictionAlongWeakDirections(*placement.refused_pose, prediction,
+                                                placement.registration.covariance,
+                                                options_.weak_direction_sigma);
+  }
+  placement.registration.failure = failure;
 }
 
 void ScanPlacer::useLevels(size_t count) {

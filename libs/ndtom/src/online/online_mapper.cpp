@@ -18,6 +18,8 @@ void validate(const OnlineMapperOptions& o) {
     failOption("target_radius", o.target_radius, "must be finite and > 0");
   if (!(o.target_refresh_distance >= 0 && std::isfinite(o.target_refresh_distance)))
     failOption("target_refresh_distance", o.target_refresh_distance, "must be finite and >= 0");
+  if (!(o.free_space_overrule >= 0 && std::isfinite(o.free_space_overrule)))
+    failOption("free_space_overrule", o.free_space_overrule, "must be finite and >= 0 (0: never)");
   if (!(o.threads >= 1 && o.threads <= ScanOptions::kMaxThreads))
     failOption("threads", o.threads, "must be in [1, 256]");
 }
@@ -37,6 +39,14 @@ const char* toString(OnlineOutcome outcome) {
 }
 
 namespace {
+
+// Within `distance` (m) and a degree of the prediction (distance 0: never).
+bool agreesWithPrediction(const Eigen::Isometry3d& pose, const Eigen::Isometry3d& prediction,
+                          double distance) {
+  const double turned = Eigen::AngleAxisd(prediction.linear().transpose() * pose.linear()).angle();
+  return distance > 0 && (pose.translation() - prediction.translation()).norm() <= distance &&
+         turned <= M_PI / 180;
+}
 
 PlacementOptions withThreads(PlacementOptions o, int threads) {
   o.registration.threads = threads;
@@ -138,7 +148,13 @@ OnlineStep OnlineMapper::locate(const std::vector<Eigen::Vector3d>& points, doub
   step.pose = placed.pose;
   if (placed.outcome == PlacementOutcome::Lost && placed.refused_pose) {
     step.pose = *placed.refused_pose;
-    step.pose_from_refused_registration = true;
+    if (agreesWithPrediction(step.pose, step.prediction, options_.free_space_overrule)) {
+      step.outcome = OnlineOutcome::Tracked;
+      step.found_by = "prediction, free space overruled";
+      step.free_space_overruled = true;
+    } else {
+      step.pose_from_refused_registration = true;
+    }
   }
   step.registration = std::move(placed.registration);
   step.registrations = placed.registrations;
