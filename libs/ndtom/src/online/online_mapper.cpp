@@ -1,5 +1,6 @@
 #include "ndtom/online/online_mapper.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -40,12 +41,15 @@ const char* toString(OnlineOutcome outcome) {
 
 namespace {
 
-// Within `distance` (m) and a degree of the prediction (distance 0: never).
+// Within `distance` (m; 0: never), half the step the prediction made from the last pose, and
+// a degree of the prediction: a stalled pose, which the free-space check is for, lies a step
+// behind it, however slow the sensor moves.
 bool agreesWithPrediction(const Eigen::Isometry3d& pose, const Eigen::Isometry3d& prediction,
-                          double distance) {
+                          const Eigen::Isometry3d& last_pose, double distance) {
+  const double step = (prediction.translation() - last_pose.translation()).norm();
   const double turned = Eigen::AngleAxisd(prediction.linear().transpose() * pose.linear()).angle();
-  return distance > 0 && (pose.translation() - prediction.translation()).norm() <= distance &&
-         turned <= M_PI / 180;
+  const double off = (pose.translation() - prediction.translation()).norm();
+  return distance > 0 && off <= std::min(distance, 0.5 * step) && turned <= M_PI / 180;
 }
 
 PlacementOptions withThreads(PlacementOptions o, int threads) {
@@ -148,7 +152,8 @@ OnlineStep OnlineMapper::locate(const std::vector<Eigen::Vector3d>& points, doub
   step.pose = placed.pose;
   if (placed.outcome == PlacementOutcome::Lost && placed.refused_pose) {
     step.pose = *placed.refused_pose;
-    if (agreesWithPrediction(step.pose, step.prediction, options_.free_space_overrule)) {
+    if (agreesWithPrediction(step.pose, step.prediction, t.motion.lastPose(),
+                             options_.free_space_overrule)) {
       step.outcome = OnlineOutcome::Tracked;
       step.found_by = "prediction, free space overruled";
       step.free_space_overruled = true;

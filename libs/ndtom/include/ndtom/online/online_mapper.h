@@ -60,11 +60,12 @@ struct OnlineMapperOptions {
   /// those that join or leave.
   double target_refresh_distance = 2;
   /// A scan only the free-space check refused is placed and inserted all the same if its
-  /// registration from the prediction ends within this distance (m) and 1° of the
-  /// prediction (Default: 0.1 m; 0: never). A sparse lidar at a corner sees the side
-  /// street's walls where rays that grazed them, edge-on, cleared the map (a 340 m block
-  /// drive: 31 scans lost, 2.8 m ATE; with the overrule none, 0.06 m); a stalled pose, which
-  /// the check is for, lies a step behind the prediction.
+  /// registration from the prediction ends within this distance (m), half the step the
+  /// prediction made from the last pose, and 1° of the prediction (Default: 0.1 m; 0: never).
+  /// A sparse lidar at a corner sees the side street's walls where rays that grazed them,
+  /// edge-on, cleared the map (a 340 m block drive: 31 scans lost, 2.8 m ATE; with the
+  /// overrule none, 0.06 m); a stalled pose, which the check is for, lies a step behind the
+  /// prediction.
   double free_space_overrule = 0.1;
   /// Threads of registration and insertion (this, not placement.registration.threads); the
   /// result is the same for any count (Default: 1).
