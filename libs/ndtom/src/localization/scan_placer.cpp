@@ -84,6 +84,10 @@ Placement ScanPlacer::place(const NdtMap& map, const std::vector<Eigen::Vector3d
         placement.pose, prediction, placement.registration.covariance,
         options_.weak_direction_sigma);
     if (levels(options_)) level(map, points, placement);  // on the levels that placed it
+  } else if (placement.refused_pose) {  // its registration is the report's
+    tracking::keepPredictionAlongWeakDirections(*placement.refused_pose, prediction,
+                                                placement.registration.covariance,
+                                                options_.weak_direction_sigma);
   }
   return placement;
 }
@@ -134,9 +138,6 @@ void ScanPlacer::registerFromStarts(const NdtMap& map, const std::vector<Eigen::
   if (refused) {  // lost, where that registration put it: the report is its own
     placement.registration = std::move(*refused);
     placement.refused_pose = placement.registration.pose;
-    tracking::keepPredictionAlongWeakDirections(*placement.refused_pose, prediction,
-                                                placement.registration.covariance,
-                                                options_.weak_direction_sigma);
   }
   placement.registration.failure = failure;
 }
@@ -165,7 +166,6 @@ void ScanPlacer::placeWithoutFinest(const NdtMap& map, const std::vector<Eigen::
     return;
   }
   coarser.without_finest = true;
-  coarser.refused_pose.reset();
   placement = std::move(coarser);
 }
 
